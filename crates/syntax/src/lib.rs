@@ -1,0 +1,87 @@
+//! Lossless, resilient syntax for the HiGraph language.
+//!
+//! `parse(text)` never fails: it returns a rowan tree whose text is exactly the input, plus the
+//! syntax diagnostics (HG0xxx) of `diagnostics.md` §3.0. Typed accessors over the tree live in
+//! [`ast`]. This crate knows nothing of salsa, workspaces or the LSP.
+
+pub mod ast;
+mod error;
+mod kind;
+pub mod lexer;
+mod parser;
+mod validation;
+
+use std::fmt::Write;
+
+pub use error::{ErrorCode, Fix, Related, SyntaxError, TextEdit};
+pub use kind::{HiGraphLanguage, SyntaxElement, SyntaxKind, SyntaxNode, SyntaxToken};
+pub use rowan::{GreenNode, TextRange, TextSize, WalkEvent};
+
+/// The result of parsing one file: the green tree and the syntax diagnostics.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Parse {
+    green: GreenNode,
+    errors: Vec<SyntaxError>,
+}
+
+impl Parse {
+    /// The root of the syntax tree (a `SOURCE_FILE` node).
+    pub fn syntax_node(&self) -> SyntaxNode {
+        SyntaxNode::new_root(self.green.clone())
+    }
+
+    /// The typed root.
+    pub fn tree(&self) -> ast::SourceFile {
+        ast::SourceFile { syntax: self.syntax_node() }
+    }
+
+    /// The green tree (cheap to clone, `Send + Sync`).
+    pub fn green(&self) -> &GreenNode {
+        &self.green
+    }
+
+    /// The syntax diagnostics, sorted by position.
+    pub fn errors(&self) -> &[SyntaxError] {
+        &self.errors
+    }
+
+    /// The tree in rowan's debug format, one node or token per line, tokens as
+    /// `KIND@start..end "text"` — the format of `higraph-lsp parse` and the parser tests.
+    pub fn debug_tree(&self) -> String {
+        debug_tree(&self.syntax_node())
+    }
+}
+
+/// Parses one file. Never fails, never panics; the tree's text equals `text`.
+pub fn parse(text: &str) -> Parse {
+    let (green, mut errors) = parser::parse(text);
+    let root = SyntaxNode::new_root(green.clone());
+    validation::validate(&root, &mut errors);
+    errors.sort_by_key(|e| (e.range.start(), e.range.end(), e.code));
+    Parse { green, errors }
+}
+
+/// Prints a subtree: nodes as `KIND@start..end`, tokens as `KIND@start..end "text"`, indented by
+/// depth.
+pub fn debug_tree(node: &SyntaxNode) -> String {
+    let mut out = String::new();
+    let mut depth = 0usize;
+    for event in node.preorder_with_tokens() {
+        match event {
+            WalkEvent::Enter(element) => {
+                let _ = write!(out, "{:indent$}", "", indent = depth * 2);
+                match element {
+                    rowan::NodeOrToken::Node(n) => {
+                        let _ = writeln!(out, "{:?}@{:?}", n.kind(), n.text_range());
+                    }
+                    rowan::NodeOrToken::Token(t) => {
+                        let _ = writeln!(out, "{:?}@{:?} {:?}", t.kind(), t.text_range(), t.text());
+                    }
+                }
+                depth += 1;
+            }
+            WalkEvent::Leave(_) => depth -= 1,
+        }
+    }
+    out
+}
