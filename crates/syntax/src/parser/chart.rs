@@ -1,0 +1,480 @@
+//! Sequence charts: `chart [type] NAME ["comment"] < sections, properties, sequencers >`,
+//! sequencers with steps, transitions, branches, jumps and loops, and chart expressions.
+
+use super::{Parser, Scope, items, stl};
+use crate::{SyntaxKind, SyntaxKind::*};
+
+const QUALIFIERS: &[&str] = &["N", "S", "R", "P", "L", "D", "SD", "DS", "SL"];
+
+pub(crate) fn chart(p: &mut Parser<'_>) {
+    p.start(CHART);
+    p.bump_keyword();
+    // `type` is the keyword only when a name follows it.
+    if p.at_word("type") && matches!(p.nth(1), IDENT) {
+        p.bump_keyword();
+    }
+    let construct = format!("chart {}", p.nth_text(0));
+    if !p.name() {
+        p.error_expected("a chart name");
+        if !p.recover_header() {
+            p.finish_node();
+            return;
+        }
+    }
+    p.opt_comment_string();
+    p.start(BODY);
+    if let Some(open) = p.expect_open(&construct) {
+        while !p.body_ends(open, &construct, &[]) {
+            if items::at_var_section(p) {
+                items::var_section(p, &[Scope::Chart]);
+            } else if p.at_word("sequencer") {
+                sequencer(p);
+            } else if p.at_word("mode") || p.at_word("switching") || p.at_word("run") {
+                chart_prop(p);
+            } else {
+                p.error_and_recover(
+                    "a chart member ('sequencer', 'mode', 'switching', 'run', a variable section) or '>'",
+                );
+            }
+        }
+    }
+    p.finish_node();
+    p.finish_node();
+}
+
+/// `mode auto;`, `switching T;`, `run cyclic;`
+fn chart_prop(p: &mut Parser<'_>) {
+    p.start(CHART_PROP);
+    let word = p.nth_text(0).to_ascii_lowercase();
+    p.bump_keyword();
+    if p.at(IDENT) && !p.nth_on_new_line(0) {
+        p.bump_node(NAME_REF, 1);
+        p.expect_semi(&format!("'{word}'"), |p| p.at(IDENT));
+    } else {
+        p.error_and_recover("a value");
+    }
+    p.finish_node();
+}
+
+/// A step, transition, jump or loop name: an identifier, or (tolerated, HG7102) an integer.
+fn element_name(p: &mut Parser<'_>) -> bool {
+    if matches!(p.current(), IDENT | NUMBER) {
+        p.bump_node(NAME, 1);
+        true
+    } else {
+        false
+    }
+}
+
+/// `sequencer NAME [prio N] < members >`
+fn sequencer(p: &mut Parser<'_>) {
+    p.start(SEQUENCER);
+    p.bump_keyword();
+    let construct = format!("sequencer {}", p.nth_text(0));
+    if !element_name(p) {
+        p.error_expected("a sequencer name");
+        if !p.recover_header() {
+            p.finish_node();
+            return;
+        }
+    }
+    if p.at_word("prio") {
+        p.start(PRIO_CLAUSE);
+        p.bump_keyword();
+        if p.at(NUMBER) {
+            p.bump();
+        } else {
+            p.finish_node();
+            p.error_expected("a priority");
+            if !p.recover_header() {
+                p.finish_node();
+                return;
+            }
+            p.start(PRIO_CLAUSE);
+        }
+        p.finish_node();
+    }
+    p.start(BODY);
+    if let Some(open) = p.expect_open(&construct) {
+        while !p.body_ends(open, &construct, &[Scope::Chart]) {
+            if p.at_word("sequencer") && matches!(p.nth(1), IDENT | NUMBER) {
+                // A new sequencer closes this one (the member keyword of the chart).
+                p.error_unclosed(open, &construct);
+                break;
+            }
+            if p.at_word("start") && p.nth(1) == L_ANGLE {
+                part(p, START_PART, "start condition", true);
+            } else if p.at_word("pre") && p.nth(1) == L_ANGLE {
+                part(p, PRE_PART, "pre part", false);
+            } else if p.at_word("post") && p.nth(1) == L_ANGLE {
+                part(p, POST_PART, "post part", false);
+            } else if !seq_element(p) {
+                p.error_and_recover("a sequencer element or '>'");
+            }
+        }
+    }
+    p.finish_node();
+    p.finish_node();
+}
+
+/// `start < conditions >`, `pre < statements >`, `post < statements >`, and the step phases
+/// `init`/`run`/`term`.
+fn part(p: &mut Parser<'_>, kind: SyntaxKind, construct: &str, conditions: bool) {
+    p.start(kind);
+    p.bump_keyword();
+    body_of(p, construct, if conditions { BodyKind::Conditions } else { BodyKind::Statements });
+    p.finish_node();
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum BodyKind {
+    Conditions,
+    Statements,
+    StepItems,
+    Branches,
+    Elements,
+}
+
+/// `< ... >` of a sequencer element or part.
+fn body_of(p: &mut Parser<'_>, construct: &str, kind: BodyKind) {
+    p.start(BODY);
+    let Some(open) = p.expect_open(construct) else {
+        p.finish_node();
+        return;
+    };
+    loop {
+        // Inside a branch, `branch <` closes the branch; inside a parallel/alt, any sequencer
+        // member keyword other than `branch` closes it.
+        let closes = match kind {
+            BodyKind::Branches => {
+                p.at_member_start(Scope::Sequencer) && !p.at_word("branch")
+                    || p.at_member_start(Scope::Chart)
+            }
+            BodyKind::Elements => {
+                (p.at_word("branch") && p.nth(1) == L_ANGLE)
+                    || (p.at_word("sequencer") && matches!(p.nth(1), IDENT | NUMBER))
+                    || p.at_member_start(Scope::Chart)
+            }
+            _ => false,
+        };
+        if closes {
+            p.error_unclosed(open, construct);
+            break;
+        }
+        let scopes: &[Scope] = match kind {
+            BodyKind::Branches | BodyKind::Elements => &[Scope::Chart],
+            _ => &[Scope::Sequencer, Scope::Chart],
+        };
+        if p.body_ends(open, construct, scopes) {
+            break;
+        }
+        match kind {
+            BodyKind::Conditions => condition(p),
+            BodyKind::Statements => assignment(p),
+            BodyKind::StepItems => step_item(p),
+            BodyKind::Branches => {
+                if p.at_word("branch") && p.nth(1) == L_ANGLE {
+                    p.start(BRANCH);
+                    p.bump_keyword();
+                    body_of(p, "branch", BodyKind::Elements);
+                    p.finish_node();
+                } else {
+                    p.error_and_recover("'branch' or '>'");
+                }
+            }
+            BodyKind::Elements => {
+                if !seq_element(p) {
+                    p.error_and_recover("a sequencer element or '>'");
+                }
+            }
+        }
+    }
+    p.finish_node();
+}
+
+/// A step, transition, `parallel`, `alt`, jump or loop. Returns `false` if none starts here.
+fn seq_element(p: &mut Parser<'_>) -> bool {
+    if p.at_word("step") {
+        named_element(p, STEP, "step", BodyKind::StepItems, false);
+    } else if p.at_word("trans") {
+        named_element(p, CHART_TRANS, "transition", BodyKind::Conditions, false);
+    } else if p.at_word("jump") {
+        named_element(p, JUMP, "jump", BodyKind::Conditions, true);
+    } else if p.at_word("loop") {
+        named_element(p, LOOP, "loop", BodyKind::Conditions, true);
+    } else if (p.at_word("parallel") || p.at_word("alt")) && p.nth(1) == L_ANGLE {
+        let is_parallel = p.at_word("parallel");
+        p.start(if is_parallel { PARALLEL } else { ALT });
+        p.bump_keyword();
+        body_of(p, if is_parallel { "parallel" } else { "alt" }, BodyKind::Branches);
+        p.finish_node();
+    } else {
+        return false;
+    }
+    true
+}
+
+/// `step NAME ["c"] < .. >`, `trans NAME ["c"] < .. >`, `jump NAME -> TARGET ["c"] < .. >`.
+fn named_element(p: &mut Parser<'_>, kind: SyntaxKind, what: &str, body: BodyKind, arrow: bool) {
+    p.start(kind);
+    p.bump_keyword();
+    let construct = format!("{what} {}", p.nth_text(0));
+    let mut header_ok = true;
+    if !element_name(p) {
+        p.error_expected(&format!("a {what} name"));
+        header_ok = p.recover_header();
+    } else if arrow {
+        if !p.at_arrow() {
+            p.error_expected("'->'");
+            header_ok = p.recover_header();
+        } else {
+            p.bump_node(ARROW, 2);
+            if matches!(p.current(), IDENT | NUMBER) {
+                p.bump_node(NAME_REF, 1);
+            } else {
+                p.error_expected("a target step");
+                header_ok = p.recover_header();
+            }
+        }
+    }
+    if header_ok {
+        p.opt_comment_string();
+        body_of(p, &construct, body);
+    }
+    p.finish_node();
+}
+
+/// `init < .. >`, `run < .. >`, `term < .. >`, `N Valve;`, `L Pump, T#5S;`, `min T#1S;`,
+/// `max T#10M;`, `confirm;`.
+fn step_item(p: &mut Parser<'_>) {
+    let phase = ["init", "run", "term"].iter().find(|w| p.at_word(w)).copied();
+    if let Some(phase) = phase.filter(|_| p.nth(1) == L_ANGLE) {
+        part(p, STEP_PHASE, phase, false);
+    } else if p.at_word("min") || p.at_word("max") {
+        p.start(STEP_TIME);
+        let word = p.nth_text(0).to_ascii_lowercase();
+        p.bump_keyword();
+        if p.nth_on_new_line(0) || !chart_operand(p) {
+            p.error_and_recover("a time value");
+        } else {
+            p.expect_semi(&format!("'{word}'"), at_step_item);
+        }
+        p.finish_node();
+    } else if p.at_word("confirm") {
+        p.start(CONFIRM);
+        p.bump_keyword();
+        p.expect_semi("'confirm'", at_step_item);
+        p.finish_node();
+    } else if p.at(IDENT) && QUALIFIERS.iter().any(|q| p.at_word(q)) {
+        p.start(QUALIFIER_ACTION);
+        let element = format!("the '{}' action", p.nth_text(0));
+        p.bump_node(QUALIFIER, 1);
+        if p.nth_on_new_line(0) || !chart_operand(p) {
+            p.error_and_recover("an operand");
+            p.finish_node();
+            return;
+        }
+        if p.at(COMMA) {
+            p.bump();
+            if !chart_operand(p) {
+                p.error_and_recover("a time value");
+                p.finish_node();
+                return;
+            }
+        }
+        p.expect_semi(&element, at_step_item);
+        p.finish_node();
+    } else {
+        p.error_and_recover(
+            "a step item ('init', 'run', 'term', a qualifier, 'min', 'max', 'confirm') or '>'",
+        );
+    }
+}
+
+fn at_step_item(p: &Parser<'_>) -> bool {
+    p.at(IDENT)
+        && (["min", "max", "confirm"].iter().any(|w| p.at_word(w))
+            || QUALIFIERS.iter().any(|q| p.at_word(q))
+            || (["init", "run", "term"].iter().any(|w| p.at_word(w)) && p.nth(1) == L_ANGLE))
+}
+
+/// `expr;`
+fn condition(p: &mut Parser<'_>) {
+    p.start(CONDITION);
+    let errors = p.error_count();
+    if !expr(p) {
+        p.error_and_recover("a condition or '>'");
+    } else if p.error_count() == errors {
+        p.expect_semi("the condition", at_operand);
+    }
+    p.finish_node();
+}
+
+/// `path := expr;`
+fn assignment(p: &mut Parser<'_>) {
+    p.start(ASSIGNMENT);
+    if !path(p) {
+        p.error_and_recover("an assignment or '>'");
+        p.finish_node();
+        return;
+    }
+    if !p.at_assign() {
+        p.error_and_recover("':='");
+        p.finish_node();
+        return;
+    }
+    p.bump_node(ASSIGN_OP, 2);
+    let errors = p.error_count();
+    if !expr(p) {
+        p.error_and_recover("an expression");
+    } else if p.error_count() == errors {
+        p.expect_semi("the assignment", |p| matches!(p.current(), IDENT | STRING));
+    }
+    p.finish_node();
+}
+
+/// Can an operand begin here (on the same line as the previous token)?
+fn at_operand(p: &Parser<'_>) -> bool {
+    match p.current() {
+        IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
+        MINUS => p.nth(1) == NUMBER && p.nth_joined(1),
+        _ => false,
+    }
+}
+
+/// `expr = xor_expr { or xor_expr }` and so on down. Returns `false` (consuming nothing) if
+/// no expression starts here; errors inside are reported and recovered.
+fn expr(p: &mut Parser<'_>) -> bool {
+    binary(p, 0)
+}
+
+const LEVELS: [&str; 3] = ["or", "xor", "and"];
+
+fn binary(p: &mut Parser<'_>, level: usize) -> bool {
+    if level == LEVELS.len() {
+        return comparison(p);
+    }
+    let checkpoint = p.checkpoint();
+    if !binary(p, level + 1) {
+        return false;
+    }
+    while p.at_word(LEVELS[level]) {
+        p.start_at(checkpoint, BIN_EXPR);
+        p.bump_keyword();
+        if !binary(p, level + 1) {
+            p.error_and_recover("an operand");
+            p.finish_node();
+            return true;
+        }
+        p.finish_node();
+    }
+    true
+}
+
+/// Number of tokens of a comparison operator here, or 0. A lone `>` is a comparison only if
+/// an operand follows on the same line (the block rule, language.md §1.3).
+fn compare_op_len(p: &Parser<'_>) -> usize {
+    let joined = |kind| p.nth(1) == kind && p.nth_joined(1);
+    match p.current() {
+        L_ANGLE if joined(R_ANGLE) || joined(EQ) => 2,
+        R_ANGLE if joined(EQ) => 2,
+        EQ | L_ANGLE => 1,
+        R_ANGLE => {
+            let next_ok = !p.nth_on_new_line(1)
+                && match p.nth(1) {
+                    IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
+                    MINUS => p.nth(2) == NUMBER && p.nth_joined(2),
+                    _ => false,
+                };
+            usize::from(next_ok)
+        }
+        _ => 0,
+    }
+}
+
+fn comparison(p: &mut Parser<'_>) -> bool {
+    let checkpoint = p.checkpoint();
+    if !unary(p) {
+        return false;
+    }
+    let n = compare_op_len(p);
+    if n > 0 {
+        p.start_at(checkpoint, BIN_EXPR);
+        if n == 2 {
+            p.bump_node(COMPARE_OP, 2);
+        } else {
+            p.bump();
+        }
+        if !unary(p) {
+            p.error_and_recover("an operand");
+        }
+        p.finish_node();
+    }
+    true
+}
+
+fn unary(p: &mut Parser<'_>) -> bool {
+    if p.at_word("not") {
+        p.start(PREFIX_EXPR);
+        p.bump_keyword();
+        if !unary(p) {
+            p.error_and_recover("an operand");
+        }
+        p.finish_node();
+        return true;
+    }
+    primary(p)
+}
+
+fn primary(p: &mut Parser<'_>) -> bool {
+    if p.at(L_PAREN) {
+        p.start(PAREN_EXPR);
+        p.bump();
+        let errors = p.error_count();
+        if !expr(p) {
+            p.error_and_recover("an expression");
+        } else if p.error_count() == errors {
+            if p.at(R_PAREN) {
+                p.bump();
+            } else {
+                p.error_and_recover("')'");
+            }
+        }
+        p.finish_node();
+        return true;
+    }
+    chart_operand(p)
+}
+
+/// An operand in a chart: a constant, an address, `"symbol"` or a dotted path.
+fn chart_operand(p: &mut Parser<'_>) -> bool {
+    if stl::literal(p) {
+        return true;
+    }
+    path(p)
+}
+
+/// `NAME { . NAME }`, `"symbol"` or an address, wrapped in a PATH node.
+fn path(p: &mut Parser<'_>) -> bool {
+    match p.current() {
+        STRING => {
+            p.start(PATH);
+            p.bump_node(SYMBOL_REF, 1);
+            p.finish_node();
+            true
+        }
+        IDENT => {
+            p.start(PATH);
+            if !stl::address(p) {
+                p.bump_node(NAME_REF, 1);
+                while p.at(DOT) && p.nth_joined(0) && p.nth(1) == IDENT && p.nth_joined(1) {
+                    p.bump();
+                    p.bump_node(NAME_REF, 1);
+                }
+            }
+            p.finish_node();
+            true
+        }
+        _ => false,
+    }
+}

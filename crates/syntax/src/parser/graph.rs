@@ -1,0 +1,179 @@
+//! State graphs: `graph NAME ["comment"] < members >` with variable sections, `activate`,
+//! `permanent`, states and transitions.
+
+use super::{Parser, Scope, items, stl};
+use crate::SyntaxKind::*;
+
+pub(crate) fn graph(p: &mut Parser<'_>) {
+    p.start(GRAPH);
+    p.bump_keyword();
+    let construct = format!("graph {}", p.nth_text(0));
+    if !p.name() {
+        p.error_expected("a graph name");
+        if !p.recover_header() {
+            p.finish_node();
+            return;
+        }
+    }
+    p.opt_comment_string();
+    p.start(BODY);
+    if let Some(open) = p.expect_open(&construct) {
+        while !p.body_ends(open, &construct, &[]) {
+            member(p);
+        }
+    }
+    p.finish_node();
+    p.finish_node();
+}
+
+fn member(p: &mut Parser<'_>) {
+    if items::at_var_section(p) {
+        items::var_section(p, &[Scope::Graph]);
+    } else if p.at_word("activate") {
+        activate(p);
+    } else if p.at_word("permanent") {
+        p.start(PERMANENT);
+        p.bump_keyword();
+        stl::instruction_body(p, "permanent");
+        p.finish_node();
+    } else if p.at_word("state") {
+        state(p);
+    } else if p.at_word("trans") {
+        trans(p);
+    } else {
+        p.error_and_recover("a graph member ('state', 'trans', 'in', 'out', 'in_out', 'stat', 'activate', 'permanent') or '>'");
+    }
+}
+
+/// `activate CurrentState, StateChange;`
+fn activate(p: &mut Parser<'_>) {
+    p.start(ACTIVATE);
+    p.bump_keyword();
+    loop {
+        if p.at(IDENT) {
+            p.bump_node(NAME_REF, 1);
+        } else {
+            p.error_and_recover("a predefined variable");
+            p.finish_node();
+            return;
+        }
+        if p.at(COMMA) {
+            p.bump();
+        } else {
+            break;
+        }
+    }
+    p.expect_semi("'activate'", |p| p.at_member_start(Scope::Graph));
+    p.finish_node();
+}
+
+/// Is the current token an integer (a state number or priority)?
+fn at_integer(p: &Parser<'_>) -> bool {
+    p.at(NUMBER) && p.nth_text(0).bytes().all(|b| b.is_ascii_digit())
+}
+
+/// `state N ["name"] {fault|message} < items >`
+fn state(p: &mut Parser<'_>) {
+    p.start(STATE);
+    p.bump_keyword();
+    let mut construct = "state".to_owned();
+    let mut header_ok = true;
+    if at_integer(p) {
+        construct = format!("state {}", p.nth_text(0));
+        p.bump();
+        loop {
+            if p.at(STRING) {
+                p.bump_node(COMMENT_STRING, 1);
+            } else if p.at_word("fault") || p.at_word("message") {
+                p.start(ATTRIBUTE);
+                p.bump_keyword();
+                p.finish_node();
+            } else {
+                break;
+            }
+        }
+    } else {
+        p.error_expected("a state number");
+        header_ok = p.recover_header();
+    }
+    if header_ok {
+        stl::instruction_body(p, &construct);
+    }
+    p.finish_node();
+}
+
+/// `trans A->B {prio N | auto | manual | waits | fault | "name"} < body >`
+fn trans(p: &mut Parser<'_>) {
+    p.start(TRANS);
+    p.bump_keyword();
+    let source = p.nth_text(0).to_owned();
+    if !endpoint(p) {
+        p.error_expected("a state number, 'any' or 'return'");
+        if p.recover_header() {
+            stl::instruction_body(p, "transition");
+        }
+        p.finish_node();
+        return;
+    }
+    if !p.at_arrow() {
+        p.error_expected("'->'");
+        if p.recover_header() {
+            stl::instruction_body(p, "transition");
+        }
+        p.finish_node();
+        return;
+    }
+    p.bump_node(ARROW, 2);
+    let target = p.nth_text(0).to_owned();
+    if !endpoint(p) {
+        p.error_expected("a state number, 'any' or 'return'");
+        if p.recover_header() {
+            stl::instruction_body(p, "transition");
+        }
+        p.finish_node();
+        return;
+    }
+    let construct = format!("transition {source}->{target}");
+    loop {
+        if p.at_word("prio") {
+            p.start(PRIO_CLAUSE);
+            p.bump_keyword();
+            if at_integer(p) {
+                p.bump();
+                p.finish_node();
+            } else {
+                p.finish_node();
+                p.error_expected("a priority");
+                if p.recover_header() {
+                    break;
+                }
+                p.finish_node();
+                return;
+            }
+        } else if ["auto", "manual", "waits", "fault"].iter().any(|w| p.at_word(w)) {
+            p.start(ATTRIBUTE);
+            p.bump_keyword();
+            p.finish_node();
+        } else if p.at(STRING) {
+            p.bump_node(COMMENT_STRING, 1);
+        } else {
+            break;
+        }
+    }
+    stl::instruction_body(p, &construct);
+    p.finish_node();
+}
+
+/// `4`, `any` or `return`.
+fn endpoint(p: &mut Parser<'_>) -> bool {
+    if at_integer(p) {
+        p.bump_node(ENDPOINT, 1);
+    } else if p.at_word("any") || p.at_word("return") {
+        p.start(ENDPOINT);
+        p.bump_keyword();
+        p.finish_node();
+    } else {
+        return false;
+    }
+    true
+}

@@ -1,0 +1,239 @@
+//! File level: items, `mnemonic`, `symbols`, `block` interfaces and variable sections (shared
+//! by graphs, charts and block interfaces).
+
+use rowan::TextRange;
+
+use super::{Parser, Scope, chart, graph, group, stl};
+use crate::{SyntaxError, SyntaxKind::*, error::ErrorCode};
+
+pub(crate) fn source_file(p: &mut Parser<'_>) {
+    p.start(SOURCE_FILE);
+    // HG0010 / HG0011: the first `mnemonic` must be the first item; later ones are ignored.
+    let mut first_mnemonic: Option<(TextRange, String)> = None;
+    let mut seen_item = false;
+    while !p.at_eof() {
+        let start = p.nth_range(0).start();
+        let mut set = None;
+        if p.at_word("mnemonic") {
+            set = Some(mnemonic(p));
+        } else if p.at(R_ANGLE) {
+            let range = p.nth_range(0);
+            p.bump_node(ERROR, 1);
+            p.push_error(
+                SyntaxError::new(ErrorCode::HG0008, range, "'>' without an open block")
+                    .with_fix("Delete the '>'", range, ""),
+            );
+        } else if !item(p) {
+            p.error_and_recover("an item ('graph', 'group', 'chart', 'symbols', 'block' or 'mnemonic')");
+        }
+        if let Some(set) = set {
+            let range = TextRange::new(start, p.last_end());
+            match &first_mnemonic {
+                None => {
+                    if seen_item {
+                        p.push_error(
+                            SyntaxError::new(
+                                ErrorCode::HG0010,
+                                range,
+                                "'mnemonic' must be the first item of the file",
+                            )
+                            .with_fix("Move it to the top of the file", range, ""),
+                        );
+                    }
+                    first_mnemonic = Some((range, set));
+                }
+                Some((first, set)) => {
+                    let message = format!("second 'mnemonic' directive; the first one ({set}) applies");
+                    p.push_error(
+                        SyntaxError::new(ErrorCode::HG0011, range, message)
+                            .with_related(*first, "the first 'mnemonic' directive")
+                            .with_fix("Delete it", range, ""),
+                    );
+                }
+            }
+        }
+        seen_item = true;
+    }
+    p.flush_rest();
+    p.finish_node();
+}
+
+/// Parses an item if the current token starts one.
+fn item(p: &mut Parser<'_>) -> bool {
+    if p.at_word("graph") {
+        graph::graph(p);
+    } else if p.at_word("group") {
+        group::group(p);
+    } else if p.at_word("chart") {
+        chart::chart(p);
+    } else if p.at_word("symbols") {
+        symbols(p);
+    } else if p.at_word("block") {
+        block_interface(p);
+    } else {
+        return false;
+    }
+    true
+}
+
+/// `mnemonic simatic;` — returns the set as written in lower case (for HG0011's message).
+fn mnemonic(p: &mut Parser<'_>) -> String {
+    p.start(MNEMONIC);
+    p.bump_keyword();
+    let set = if p.at_word("simatic") || p.at_word("international") {
+        let set = p.nth_text(0).to_ascii_lowercase();
+        p.bump_keyword();
+        p.expect_semi("the 'mnemonic' directive", |_| false);
+        set
+    } else {
+        p.error_and_recover("'simatic' or 'international'");
+        "unknown".to_owned()
+    };
+    p.finish_node();
+    set
+}
+
+/// `symbols < Name : address [type] ["comment"]; ... >`
+fn symbols(p: &mut Parser<'_>) {
+    p.start(SYMBOLS);
+    p.bump_keyword();
+    if let Some(open) = p.expect_open("the symbol table") {
+        while !p.body_ends(open, "the symbol table", &[]) {
+            if p.at(IDENT) || p.at(STRING) {
+                symbol(p);
+            } else {
+                p.error_and_recover("a symbol or '>'");
+            }
+        }
+    }
+    p.finish_node();
+}
+
+fn symbol(p: &mut Parser<'_>) {
+    p.start(SYMBOL);
+    let name = p.nth_text(0).to_owned();
+    p.bump_node(NAME, 1);
+    let element = format!("symbol {name}");
+    if p.at(COLON) && !p.at_assign() {
+        p.bump();
+        if stl::address_in_table(p) {
+            if p.at(IDENT) && !p.nth_on_new_line(0) && !type_ref(p) {
+                p.finish_node();
+                return;
+            }
+            p.opt_comment_string();
+            p.expect_semi(&element, |p| matches!(p.current(), IDENT | STRING));
+        } else {
+            p.error_and_recover("an address");
+        }
+    } else {
+        p.error_and_recover("':'");
+    }
+    p.finish_node();
+}
+
+/// `block FC 10 ["comment"] < var sections >`
+fn block_interface(p: &mut Parser<'_>) {
+    p.start(BLOCK_INTERFACE);
+    p.bump_keyword();
+    let construct = format!("block {}", stl::block_ref_text(p));
+    if !stl::block_ref(p) {
+        p.error_expected("a block (FC, FB, SFC, SFB or a symbol)");
+    }
+    p.opt_comment_string();
+    if let Some(open) = p.expect_open(&construct) {
+        while !p.body_ends(open, &construct, &[]) {
+            if at_var_section(p) {
+                var_section(p, &[]);
+            } else {
+                p.error_and_recover("'in', 'out', 'in_out', 'stat' or '>'");
+            }
+        }
+    }
+    p.finish_node();
+}
+
+/// `in <`, `out <`, `in_out <`, `stat <`.
+pub(crate) fn at_var_section(p: &Parser<'_>) -> bool {
+    (p.at_word("in") || p.at_word("out") || p.at_word("in_out") || p.at_word("stat"))
+        && p.nth(1) == L_ANGLE
+}
+
+/// `in < Name : TYPE [msg in|out] [:= constant] ["comment"]; ... >`
+pub(crate) fn var_section(p: &mut Parser<'_>, scopes: &[Scope]) {
+    p.start(VAR_SECTION);
+    let construct = format!("section '{}'", p.nth_text(0).to_ascii_lowercase());
+    p.bump_keyword();
+    if let Some(open) = p.expect_open(&construct) {
+        while !p.body_ends(open, &construct, scopes) {
+            if p.at(IDENT) {
+                var_decl(p);
+            } else {
+                p.error_and_recover("a declaration or '>'");
+            }
+        }
+    }
+    p.finish_node();
+}
+
+fn var_decl(p: &mut Parser<'_>) {
+    p.start(VAR_DECL);
+    let element = format!("the declaration of {}", p.nth_text(0));
+    p.bump_node(NAME, 1);
+    if !(p.at(COLON) && !p.at_assign()) {
+        p.error_and_recover("':'");
+        p.finish_node();
+        return;
+    }
+    p.bump();
+    if !p.at(IDENT) {
+        p.error_and_recover("a type");
+        p.finish_node();
+        return;
+    }
+    if !type_ref(p) {
+        p.finish_node();
+        return;
+    }
+    if p.at_word("msg") && (p.nth_is_word(1, "in") || p.nth_is_word(1, "out")) {
+        p.start(MSG_KIND);
+        p.bump_keyword();
+        p.bump_keyword();
+        p.finish_node();
+    }
+    if p.at_assign() {
+        p.start(INITIAL_VALUE);
+        p.bump_node(ASSIGN_OP, 2);
+        if !stl::literal(p) {
+            p.error_and_recover("a constant");
+            p.finish_node();
+            p.finish_node();
+            return;
+        }
+        p.finish_node();
+    }
+    p.opt_comment_string();
+    p.expect_semi(&element, |p| p.at(IDENT));
+    p.finish_node();
+}
+
+/// `BOOL`, `STRING[20]`. Returns `false` after an error (already recovered).
+pub(crate) fn type_ref(p: &mut Parser<'_>) -> bool {
+    p.start(TYPE_REF);
+    p.bump();
+    if p.at(L_BRACK) && !p.nth_on_new_line(0) {
+        p.bump();
+        if p.at(NUMBER) {
+            p.bump();
+        }
+        if p.at(R_BRACK) {
+            p.bump();
+        } else {
+            p.finish_node();
+            p.error_and_recover("']'");
+            return false;
+        }
+    }
+    p.finish_node();
+    true
+}

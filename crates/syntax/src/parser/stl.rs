@@ -1,0 +1,481 @@
+//! STL: instruction bodies (labels, blocks, `wait`/`supervise`), statements, opcodes,
+//! operands, addresses, constants and CALL arguments.
+
+use super::{Parser, Scope};
+use crate::SyntaxKind::*;
+
+/// Address-area identifiers of both mnemonic sets (diagnostics.md Appendix A.2). The parser
+/// accepts both sets; analysis decides which is legal (HG4007).
+const AREAS: &[&str] = &[
+    "E", "A", "M", "L", "I", "Q", "EB", "EW", "ED", "AB", "AW", "AD", "MB", "MW", "MD", "LB", "LW",
+    "LD", "IB", "IW", "ID", "QB", "QW", "QD", "PEB", "PEW", "PED", "PAB", "PAW", "PAD", "PIB",
+    "PIW", "PID", "PQB", "PQW", "PQD", "DBX", "DBB", "DBW", "DBD", "DIX", "DIB", "DIW", "DID", "T",
+    "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
+];
+
+/// Areas that name blocks (`FC 10`, `DB 5`).
+const BLOCK_AREAS: &[&str] = &["OB", "FC", "FB", "DB", "SFC", "SFB"];
+
+/// Operations that open a bracket: `U(` and friends, also written `U (`.
+const BRACKET_OPS: &[&str] = &["U", "UN", "O", "ON", "X", "XN", "A", "AN"];
+
+fn is_area(word: &str) -> bool {
+    AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
+}
+
+/// `word` = area letters followed by digits (`E1`, `MW10`, `DBX5`)?
+fn is_area_with_number(word: &str) -> bool {
+    let split = word.find(|c: char| c.is_ascii_digit()).unwrap_or(word.len());
+    let (area, digits) = word.split_at(split);
+    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) && is_area(area)
+}
+
+fn is_db_name(word: &str) -> bool {
+    word.len() > 2
+        && word[..2].eq_ignore_ascii_case("DB")
+        && word[2..].bytes().all(|b| b.is_ascii_digit())
+}
+
+/// `DBX`, `DBB`, `DBW`, `DBD`, optionally followed by digits.
+fn is_db_access(word: &str) -> bool {
+    word.len() >= 3
+        && word.is_char_boundary(3)
+        && ["DBX", "DBB", "DBW", "DBD"].iter().any(|a| a.eq_ignore_ascii_case(&word[..3]))
+        && word[3..].bytes().all(|b| b.is_ascii_digit())
+}
+
+fn is_integer(text: &str) -> bool {
+    !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit())
+}
+
+/// `I`, `D` or `R` as a whole identifier at `n` joined to the previous token.
+fn nth_is_cmp_type(p: &Parser<'_>, n: usize) -> bool {
+    p.nth_joined(n) && (p.nth_is_word(n, "I") || p.nth_is_word(n, "D") || p.nth_is_word(n, "R"))
+}
+
+/// Number of tokens of an STL comparison at the current position (`==I <>I >I <I >=I <=I`
+/// and the same with `D` and `R`), or 0.
+pub(crate) fn comparison_len(p: &Parser<'_>) -> usize {
+    let second_joined = |kind| p.nth(1) == kind && p.nth_joined(1);
+    match p.current() {
+        EQ if second_joined(EQ) && nth_is_cmp_type(p, 2) => 3,
+        L_ANGLE if (second_joined(R_ANGLE) || second_joined(EQ)) && nth_is_cmp_type(p, 2) => 3,
+        R_ANGLE if second_joined(EQ) && nth_is_cmp_type(p, 2) => 3,
+        L_ANGLE | R_ANGLE if nth_is_cmp_type(p, 1) => 2,
+        _ => 0,
+    }
+}
+
+/// Number of tokens of a block label at the current position (`E:` `C-:` `C:` `X:` `?:`
+/// `!:`), or 0. Labels are formed only at statement start inside instruction bodies; the
+/// callers guarantee that.
+fn label_len(p: &Parser<'_>) -> usize {
+    let colon_at = |n: usize| p.nth(n) == COLON && p.nth_joined(n);
+    match p.current() {
+        IDENT if p.at_word("C") && p.nth(1) == MINUS && p.nth_joined(1) && colon_at(2) => 3,
+        IDENT if (p.at_word("E") || p.at_word("C") || p.at_word("X")) && colon_at(1) => 2,
+        QUESTION | BANG if colon_at(1) => 2,
+        _ => 0,
+    }
+}
+
+pub(crate) fn at_label(p: &Parser<'_>) -> bool {
+    label_len(p) > 0
+}
+
+/// `NAME:` (not `NAME:=`) at statement start that is not a block label: a jump label.
+fn at_jump_label(p: &Parser<'_>) -> bool {
+    p.at(IDENT)
+        && p.nth(1) == COLON
+        && p.nth_joined(1)
+        && !(p.nth(2) == EQ && p.nth_joined(2))
+        && label_len(p) == 0
+}
+
+/// Number of tokens of the opcode at the current position, or 0 if no statement starts here.
+fn opcode_len(p: &Parser<'_>) -> usize {
+    let cmp = comparison_len(p);
+    if cmp > 0 {
+        return cmp;
+    }
+    match p.current() {
+        IDENT => {
+            let word = p.nth_text(0);
+            if BRACKET_OPS.iter().any(|op| op.eq_ignore_ascii_case(word))
+                && p.nth(1) == L_PAREN
+                && !p.nth_on_new_line(1)
+            {
+                2
+            } else if word.eq_ignore_ascii_case("RND")
+                && matches!(p.nth(1), PLUS | MINUS)
+                && p.nth_joined(1)
+            {
+                2
+            } else {
+                1
+            }
+        }
+        R_PAREN | EQ => 1,
+        PLUS if nth_is_cmp_type(p, 1) => 2,
+        PLUS => 1,
+        MINUS | STAR | SLASH if nth_is_cmp_type(p, 1) => 2,
+        _ => 0,
+    }
+}
+
+/// Can an STL statement start here?
+pub(crate) fn at_stmt_start(p: &Parser<'_>) -> bool {
+    p.at(SEMI) || opcode_len(p) > 0
+}
+
+/// The body of a state, transition or `permanent`: labelled blocks of statements, `wait` and
+/// `supervise` items, and statements before the first label (an unlabelled block).
+pub(crate) fn instruction_body(p: &mut Parser<'_>, construct: &str) {
+    p.start(BODY);
+    let Some(open) = p.expect_open(construct) else {
+        p.finish_node();
+        return;
+    };
+    let mut in_block = false;
+    loop {
+        let closes = comparison_len(p) == 0
+            && (p.at(R_ANGLE)
+                || p.at_eof()
+                || p.at_item_start()
+                || p.at_member_start(Scope::Graph));
+        if closes {
+            // Close the open block first so that the `>` belongs to the body.
+            if in_block {
+                p.finish_node();
+            }
+            p.body_ends(open, construct, &[Scope::Graph]);
+            break;
+        }
+        let label = label_len(p);
+        if label > 0 {
+            if in_block {
+                p.finish_node();
+            }
+            p.start(BLOCK);
+            p.bump_node(LABEL, label);
+            in_block = true;
+        } else if p.at_word("wait") || p.at_word("supervise") {
+            if in_block {
+                p.finish_node();
+                in_block = false;
+            }
+            time_item(p);
+        } else {
+            if !in_block {
+                p.start(BLOCK);
+                in_block = true;
+            }
+            if at_stmt_start(p) || at_jump_label(p) {
+                stl_stmt(p);
+            } else {
+                p.error_and_recover("an STL statement, a label or '>'");
+            }
+        }
+    }
+    p.finish_node();
+}
+
+/// `wait T#2S;` / `supervise T#10S;`
+fn time_item(p: &mut Parser<'_>) {
+    let is_wait = p.at_word("wait");
+    p.start(if is_wait { WAIT_ITEM } else { SUPERVISE_ITEM });
+    let word = p.nth_text(0).to_ascii_lowercase();
+    p.bump_keyword();
+    let errors = p.error_count();
+    if p.nth_on_new_line(0) || !operand(p) {
+        p.error_and_recover("a time constant or operand");
+    } else if p.error_count() == errors {
+        p.expect_semi(&format!("the '{word}' item"), |p| {
+            at_stmt_start(p) || p.at_word("wait") || p.at_word("supervise")
+        });
+    }
+    p.finish_node();
+}
+
+/// One STL statement: `[label:] [opcode [operand | call args]] ;`
+pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
+    p.start(STL_STMT);
+    if at_jump_label(p) {
+        p.bump_node(JUMP_LABEL, 2);
+    }
+    if p.at(SEMI) {
+        p.bump();
+        p.finish_node();
+        return;
+    }
+    let n = opcode_len(p);
+    if n == 0 {
+        p.error_and_recover("an STL operation");
+        p.finish_node();
+        return;
+    }
+    let op = p.nth_text(0).to_owned();
+    let op_display: String = (0..n).map(|i| p.nth_text(i)).collect();
+    p.bump_node(OPCODE, n);
+    let element = format!("'{op_display}'");
+    if !p.nth_on_new_line(0) && !p.at(SEMI) {
+        let errors = p.error_count();
+        if n == 1 && (op.eq_ignore_ascii_case("CALL") || op.eq_ignore_ascii_case("CC")) {
+            call_args(p);
+        } else {
+            // No operand is fine here; `expect_semi` reports a token that cannot follow.
+            operand(p);
+        }
+        if p.error_count() > errors {
+            // The arguments reported and recovered already.
+            p.finish_node();
+            return;
+        }
+    }
+    p.expect_semi(&element, at_stmt_start);
+    p.finish_node();
+}
+
+/// `FC 10 [, DB 10] [( P := x, ... )]`. Errors are reported and recovered here.
+fn call_args(p: &mut Parser<'_>) {
+    p.start(CALL_ARGS);
+    if !block_ref(p) {
+        p.error_and_recover("a block to call");
+        p.finish_node();
+        return;
+    }
+    if p.at(COMMA) && !p.nth_on_new_line(0) {
+        p.bump();
+        if !block_ref(p) {
+            p.error_and_recover("an instance data block");
+            p.finish_node();
+            return;
+        }
+    }
+    if p.at(L_PAREN) && !p.nth_on_new_line(0) {
+        p.start(PARAM_LIST);
+        p.bump();
+        loop {
+            if p.at(R_PAREN) {
+                p.bump();
+                break;
+            }
+            if p.at(IDENT) && p.nth(1) == COLON && p.nth(2) == EQ && p.nth_joined(2) {
+                p.start(PARAM);
+                p.bump_node(NAME_REF, 1);
+                p.bump_node(ASSIGN_OP, 2);
+                let errors = p.error_count();
+                let ok = operand(p);
+                p.finish_node();
+                if p.error_count() > errors {
+                    break;
+                }
+                if !ok {
+                    p.error_and_recover("an actual parameter");
+                    break;
+                }
+                if p.at(COMMA) {
+                    p.bump();
+                } else if !p.at(R_PAREN) {
+                    p.error_and_recover("',' or ')'");
+                    break;
+                }
+            } else {
+                p.error_and_recover("a parameter 'NAME := value' or ')'");
+                break;
+            }
+        }
+        p.finish_node();
+    }
+    p.finish_node();
+}
+
+/// Text of the block reference at the current position, for messages.
+pub(crate) fn block_ref_text(p: &Parser<'_>) -> String {
+    let word = p.nth_text(0);
+    if p.at(IDENT)
+        && BLOCK_AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
+        && p.nth(1) == NUMBER
+        && !p.nth_on_new_line(1)
+    {
+        format!("{word} {}", p.nth_text(1))
+    } else {
+        word.to_owned()
+    }
+}
+
+/// `FC 10`, `FC10`, `Name`, `"Name"`.
+pub(crate) fn block_ref(p: &mut Parser<'_>) -> bool {
+    match p.current() {
+        IDENT => {
+            p.start(BLOCK_REF);
+            let word = p.nth_text(0);
+            if BLOCK_AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
+                && p.nth(1) == NUMBER
+                && !p.nth_on_new_line(1)
+            {
+                p.bump_node(ADDRESS, 2);
+            } else {
+                p.bump_node(NAME_REF, 1);
+            }
+            p.finish_node();
+            true
+        }
+        STRING => {
+            p.start(BLOCK_REF);
+            p.bump_node(SYMBOL_REF, 1);
+            p.finish_node();
+            true
+        }
+        _ => false,
+    }
+}
+
+/// Number of tokens of an absolute address at the current position, or 0. `spelled_together`
+/// also accepts a lone identifier (`MW10`) — used in symbol tables, where an identifier in
+/// address position can only be an address.
+fn address_len(p: &Parser<'_>) -> usize {
+    if p.current() != IDENT {
+        return 0;
+    }
+    let word = p.nth_text(0);
+    // DB10.DBX 5.1, DB10.DBW4, DB10.DBX5.1
+    if is_db_name(word) && p.nth(1) == DOT && p.nth_joined(1) && p.nth(2) == IDENT && p.nth_joined(2)
+    {
+        let access = p.nth_text(2);
+        if is_db_access(access) {
+            if access.len() == 3 {
+                return if p.nth(3) == NUMBER && !p.nth_on_new_line(3) { 4 } else { 3 };
+            }
+            if p.nth(3) == DOT && p.nth_joined(3) && p.nth(4) == NUMBER && p.nth_joined(4) {
+                return 5;
+            }
+            return 3;
+        }
+    }
+    // E 1.0, MW 10, T 5, FC 10
+    if is_area(word) && p.nth(1) == NUMBER && !p.nth_on_new_line(1) {
+        return 2;
+    }
+    // E1.0, M10.7
+    if is_area_with_number(word)
+        && p.nth(1) == DOT
+        && p.nth_joined(1)
+        && p.nth(2) == NUMBER
+        && p.nth_joined(2)
+        && is_integer(p.nth_text(2))
+    {
+        return 3;
+    }
+    0
+}
+
+/// `DB10.DBX ...` at the current position — always a data-block address (language.md §3.5).
+pub(crate) fn at_db_address(p: &Parser<'_>) -> bool {
+    p.at(IDENT)
+        && is_db_name(p.nth_text(0))
+        && p.nth(1) == DOT
+        && p.nth_joined(1)
+        && p.nth(2) == IDENT
+        && p.nth_joined(2)
+        && is_db_access(p.nth_text(2))
+}
+
+/// An absolute address (ADDRESS node) if one starts here.
+pub(crate) fn address(p: &mut Parser<'_>) -> bool {
+    let n = address_len(p);
+    if n > 0 {
+        p.bump_node(ADDRESS, n);
+    }
+    n > 0
+}
+
+/// An address in a symbol table: any address form, or a lone identifier (`MW10`, `FC1`).
+pub(crate) fn address_in_table(p: &mut Parser<'_>) -> bool {
+    let n = address_len(p);
+    if n > 0 {
+        p.bump_node(ADDRESS, n);
+        true
+    } else if p.at(IDENT) {
+        p.bump_node(ADDRESS, 1);
+        true
+    } else {
+        false
+    }
+}
+
+/// Number of tokens of a constant at the current position, or 0.
+pub(crate) fn literal_len(p: &Parser<'_>) -> usize {
+    match p.current() {
+        NUMBER | TYPED_CONST | CHAR => 1,
+        MINUS if p.nth(1) == NUMBER && p.nth_joined(1) => 2,
+        IDENT if p.at_word("TRUE") || p.at_word("FALSE") => 1,
+        _ => 0,
+    }
+}
+
+/// A constant (LITERAL node).
+pub(crate) fn literal(p: &mut Parser<'_>) -> bool {
+    let n = literal_len(p);
+    if n > 0 {
+        p.bump_node(LITERAL, n);
+    }
+    n > 0
+}
+
+/// One STL operand (or a time value): an address, `#Name`, a name, `"symbol"`, a constant,
+/// `[...]` (indirect, HG4004) or a status bit such as `==0` (HG4003). Returns `false` without
+/// consuming anything if no operand starts here.
+pub(crate) fn operand(p: &mut Parser<'_>) -> bool {
+    let n = address_len(p);
+    if n > 0 {
+        p.bump_node(ADDRESS, n);
+        return true;
+    }
+    if literal(p) {
+        return true;
+    }
+    match p.current() {
+        HASH if p.nth(1) == IDENT && p.nth_joined(1) => p.bump_node(VAR_REF, 2),
+        STRING => p.bump_node(SYMBOL_REF, 1),
+        IDENT => p.bump_node(NAME_REF, 1),
+        L_BRACK => indirect(p),
+        EQ | L_ANGLE | R_ANGLE => {
+            let n = status_len(p);
+            if n == 0 {
+                return false;
+            }
+            p.bump_node(STATUS_OPERAND, n);
+        }
+        _ => return false,
+    }
+    true
+}
+
+/// `==0 <>0 >0 <0 >=0 <=0` written without spaces.
+fn status_len(p: &Parser<'_>) -> usize {
+    let zero_at = |n: usize| p.nth(n) == NUMBER && p.nth_text(n) == "0" && p.nth_joined(n);
+    let joined = |n: usize, kind| p.nth(n) == kind && p.nth_joined(n);
+    match p.current() {
+        EQ if joined(1, EQ) && zero_at(2) => 3,
+        L_ANGLE if joined(1, R_ANGLE) && zero_at(2) => 3,
+        L_ANGLE | R_ANGLE if joined(1, EQ) && zero_at(2) => 3,
+        L_ANGLE | R_ANGLE if zero_at(1) => 2,
+        _ => 0,
+    }
+}
+
+/// `[ ... ]` — everything up to the matching `]` on the statement.
+fn indirect(p: &mut Parser<'_>) {
+    p.start(INDIRECT);
+    p.bump();
+    while !p.at_eof() && !p.at(R_BRACK) && !p.at(SEMI) && !p.at(R_ANGLE) {
+        p.bump();
+    }
+    if p.at(R_BRACK) {
+        p.bump();
+    } else {
+        p.error_and_recover("']'");
+    }
+    p.finish_node();
+}
