@@ -1,8 +1,1247 @@
 //! Typed accessors over the syntax tree, in the style of rust-analyzer's `ast` module.
-use crate::SyntaxNode;
+//!
+//! Each node kind gets a small wrapper struct (`Graph`, `State`, `Trans`, ...) that can be
+//! cast from a [`SyntaxNode`] and offers accessor methods for its parts. Accessors return
+//! `Option`s: the tree may be incomplete after a syntax error.
 
-/// The root of a file.
+use crate::{SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken};
+
+/// A typed view of a syntax node.
+pub trait AstNode: Sized {
+    fn can_cast(kind: SyntaxKind) -> bool;
+    fn cast(node: SyntaxNode) -> Option<Self>;
+    fn syntax(&self) -> &SyntaxNode;
+}
+
+macro_rules! ast_node {
+    ($(#[$doc:meta])* $name:ident, $kind:ident) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, PartialEq, Eq, Hash)]
+        pub struct $name {
+            pub(crate) syntax: SyntaxNode,
+        }
+
+        impl AstNode for $name {
+            fn can_cast(kind: SyntaxKind) -> bool {
+                kind == $kind
+            }
+            fn cast(node: SyntaxNode) -> Option<Self> {
+                Self::can_cast(node.kind()).then(|| $name { syntax: node })
+            }
+            fn syntax(&self) -> &SyntaxNode {
+                &self.syntax
+            }
+        }
+    };
+}
+
+fn child<N: AstNode>(parent: &SyntaxNode) -> Option<N> {
+    parent.children().find_map(N::cast)
+}
+
+fn children<N: AstNode>(parent: &SyntaxNode) -> impl Iterator<Item = N> + use<N> {
+    parent.children().filter_map(N::cast)
+}
+
+fn token(parent: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
+    parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
+}
+
+/// The first significant (non-trivia) token directly inside `parent`.
+fn first_token(parent: &SyntaxNode) -> Option<SyntaxToken> {
+    parent
+        .children_with_tokens()
+        .filter_map(|e| e.into_token())
+        .find(|t| !t.kind().is_trivia() && t.kind() != LEX_ERROR)
+}
+
+/// The text of a STRING token without its quotes.
+pub fn unquote(text: &str) -> &str {
+    let text = text.strip_prefix('"').unwrap_or(text);
+    text.strip_suffix('"').unwrap_or(text)
+}
+
+ast_node!(
+    /// The root of a file.
+    SourceFile, SOURCE_FILE
+);
+ast_node!(
+    /// `mnemonic simatic;`
+    Mnemonic, MNEMONIC
+);
+ast_node!(
+    /// `graph NAME ["comment"] < ... >`
+    Graph, GRAPH
+);
+ast_node!(
+    /// `< ... >`
+    Body, BODY
+);
+ast_node!(
+    /// A declared name.
+    Name, NAME
+);
+ast_node!(
+    /// A reference to a name declared elsewhere.
+    NameRef, NAME_REF
+);
+ast_node!(
+    /// A display name or comment.
+    CommentString, COMMENT_STRING
+);
+ast_node!(
+    /// `in < ... >` etc.
+    VarSection, VAR_SECTION
+);
+ast_node!(
+    /// One variable declaration.
+    VarDecl, VAR_DECL
+);
+ast_node!(
+    /// `BOOL`, `STRING[20]`.
+    TypeRef, TYPE_REF
+);
+ast_node!(
+    /// `msg in` / `msg out`.
+    MsgKind, MSG_KIND
+);
+ast_node!(
+    /// `:= constant`.
+    InitialValue, INITIAL_VALUE
+);
+ast_node!(
+    /// `activate A, B;`
+    Activate, ACTIVATE
+);
+ast_node!(
+    /// `permanent < ... >`
+    Permanent, PERMANENT
+);
+ast_node!(
+    /// `state N ...`
+    State, STATE
+);
+ast_node!(
+    /// `fault`, `message`, `auto`, `manual`, `waits`.
+    Attribute, ATTRIBUTE
+);
+ast_node!(
+    /// `trans A->B ...`
+    Trans, TRANS
+);
+ast_node!(
+    /// A transition endpoint.
+    Endpoint, ENDPOINT
+);
+ast_node!(
+    /// `prio N`.
+    PrioClause, PRIO_CLAUSE
+);
+ast_node!(
+    /// A labelled (or leading unlabelled) run of statements.
+    Block, BLOCK
+);
+ast_node!(
+    /// `E:` `C-:` `C:` `X:` `?:` `!:`.
+    Label, LABEL
+);
+ast_node!(
+    /// `wait value;`
+    WaitItem, WAIT_ITEM
+);
+ast_node!(
+    /// `supervise value;`
+    SuperviseItem, SUPERVISE_ITEM
+);
+ast_node!(
+    /// One STL statement.
+    StlStmt, STL_STMT
+);
+ast_node!(
+    /// The operation of an STL statement.
+    Opcode, OPCODE
+);
+ast_node!(
+    /// `NAME:` jump label (not allowed, HG4003).
+    JumpLabel, JUMP_LABEL
+);
+ast_node!(
+    /// An absolute address.
+    Address, ADDRESS
+);
+ast_node!(
+    /// `#Name`.
+    VarRef, VAR_REF
+);
+ast_node!(
+    /// `"Name"` in operand position.
+    SymbolRef, SYMBOL_REF
+);
+ast_node!(
+    /// A constant.
+    Literal, LITERAL
+);
+ast_node!(
+    /// `[ ... ]`.
+    Indirect, INDIRECT
+);
+ast_node!(
+    /// `==0` and friends.
+    StatusOperand, STATUS_OPERAND
+);
+ast_node!(
+    /// CALL / CC arguments.
+    CallArgs, CALL_ARGS
+);
+ast_node!(
+    /// A block reference.
+    BlockRef, BLOCK_REF
+);
+ast_node!(
+    /// `( P := x, ... )`.
+    ParamList, PARAM_LIST
+);
+ast_node!(
+    /// `P := x`.
+    Param, PARAM
+);
+ast_node!(
+    /// `group ...`
+    Group, GROUP
+);
+ast_node!(
+    /// `fc block_name`.
+    FcClause, FC_CLAUSE
+);
+ast_node!(
+    /// `db block_name`.
+    DbClause, DB_CLAUSE
+);
+ast_node!(
+    /// `option NAME [N];`
+    GroupOption, OPTION
+);
+ast_node!(
+    /// `instance NAME : GRAPH < ... >`
+    Instance, INSTANCE
+);
+ast_node!(
+    /// `Formal := value;`
+    Actual, ACTUAL
+);
+ast_node!(
+    /// `Inst.Msg`.
+    MessageTarget, MESSAGE_TARGET
+);
+ast_node!(
+    /// `symbols < ... >`
+    Symbols, SYMBOLS
+);
+ast_node!(
+    /// One symbol.
+    Symbol, SYMBOL
+);
+ast_node!(
+    /// `block FC 10 < ... >`
+    BlockInterface, BLOCK_INTERFACE
+);
+ast_node!(
+    /// `chart ...`
+    Chart, CHART
+);
+ast_node!(
+    /// `mode auto;` etc.
+    ChartProp, CHART_PROP
+);
+ast_node!(
+    /// `sequencer NAME ...`
+    Sequencer, SEQUENCER
+);
+ast_node!(
+    /// `start < ... >`
+    StartPart, START_PART
+);
+ast_node!(
+    /// `pre < ... >`
+    PrePart, PRE_PART
+);
+ast_node!(
+    /// `post < ... >`
+    PostPart, POST_PART
+);
+ast_node!(
+    /// `step NAME ...`
+    Step, STEP
+);
+ast_node!(
+    /// `init|run|term < ... >`
+    StepPhase, STEP_PHASE
+);
+ast_node!(
+    /// `N Valve;`
+    QualifierAction, QUALIFIER_ACTION
+);
+ast_node!(
+    /// `min T#..;` / `max T#..;`
+    StepTime, STEP_TIME
+);
+ast_node!(
+    /// `confirm;`
+    Confirm, CONFIRM
+);
+ast_node!(
+    /// `trans NAME < ... >` in a sequencer.
+    ChartTrans, CHART_TRANS
+);
+ast_node!(
+    /// `parallel < ... >`
+    Parallel, PARALLEL
+);
+ast_node!(
+    /// `alt < ... >`
+    Alt, ALT
+);
+ast_node!(
+    /// `branch < ... >`
+    Branch, BRANCH
+);
+ast_node!(
+    /// `jump NAME -> TARGET < ... >`
+    Jump, JUMP
+);
+ast_node!(
+    /// `loop NAME -> TARGET < ... >`
+    Loop, LOOP
+);
+ast_node!(
+    /// `expr;`
+    Condition, CONDITION
+);
+ast_node!(
+    /// `path := expr;`
+    Assignment, ASSIGNMENT
+);
+ast_node!(
+    /// A binary expression.
+    BinExpr, BIN_EXPR
+);
+ast_node!(
+    /// `not expr`.
+    PrefixExpr, PREFIX_EXPR
+);
+ast_node!(
+    /// `( expr )`.
+    ParenExpr, PAREN_EXPR
+);
+ast_node!(
+    /// A chart operand path.
+    Path, PATH
+);
+
+// ---------------------------------------------------------------------------- enums
+
+/// A top-level item.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct SourceFile {
-    pub(crate) syntax: SyntaxNode,
+pub enum Item {
+    Mnemonic(Mnemonic),
+    Graph(Graph),
+    Group(Group),
+    Chart(Chart),
+    Symbols(Symbols),
+    BlockInterface(BlockInterface),
+}
+
+impl Item {
+    pub fn cast(node: SyntaxNode) -> Option<Item> {
+        Some(match node.kind() {
+            MNEMONIC => Item::Mnemonic(Mnemonic { syntax: node }),
+            GRAPH => Item::Graph(Graph { syntax: node }),
+            GROUP => Item::Group(Group { syntax: node }),
+            CHART => Item::Chart(Chart { syntax: node }),
+            SYMBOLS => Item::Symbols(Symbols { syntax: node }),
+            BLOCK_INTERFACE => Item::BlockInterface(BlockInterface { syntax: node }),
+            _ => return None,
+        })
+    }
+
+    pub fn syntax(&self) -> &SyntaxNode {
+        match self {
+            Item::Mnemonic(it) => &it.syntax,
+            Item::Graph(it) => &it.syntax,
+            Item::Group(it) => &it.syntax,
+            Item::Chart(it) => &it.syntax,
+            Item::Symbols(it) => &it.syntax,
+            Item::BlockInterface(it) => &it.syntax,
+        }
+    }
+}
+
+/// An STL operand or a value (time value, actual parameter).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Operand {
+    Address(Address),
+    VarRef(VarRef),
+    NameRef(NameRef),
+    SymbolRef(SymbolRef),
+    Literal(Literal),
+    Indirect(Indirect),
+    Status(StatusOperand),
+    MessageTarget(MessageTarget),
+    Path(Path),
+}
+
+impl Operand {
+    pub fn cast(node: SyntaxNode) -> Option<Operand> {
+        Some(match node.kind() {
+            ADDRESS => Operand::Address(Address { syntax: node }),
+            VAR_REF => Operand::VarRef(VarRef { syntax: node }),
+            NAME_REF => Operand::NameRef(NameRef { syntax: node }),
+            SYMBOL_REF => Operand::SymbolRef(SymbolRef { syntax: node }),
+            LITERAL => Operand::Literal(Literal { syntax: node }),
+            INDIRECT => Operand::Indirect(Indirect { syntax: node }),
+            STATUS_OPERAND => Operand::Status(StatusOperand { syntax: node }),
+            MESSAGE_TARGET => Operand::MessageTarget(MessageTarget { syntax: node }),
+            PATH => Operand::Path(Path { syntax: node }),
+            _ => return None,
+        })
+    }
+
+    pub fn syntax(&self) -> &SyntaxNode {
+        match self {
+            Operand::Address(it) => &it.syntax,
+            Operand::VarRef(it) => &it.syntax,
+            Operand::NameRef(it) => &it.syntax,
+            Operand::SymbolRef(it) => &it.syntax,
+            Operand::Literal(it) => &it.syntax,
+            Operand::Indirect(it) => &it.syntax,
+            Operand::Status(it) => &it.syntax,
+            Operand::MessageTarget(it) => &it.syntax,
+            Operand::Path(it) => &it.syntax,
+        }
+    }
+}
+
+/// A member of a graph body.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum GraphMember {
+    VarSection(VarSection),
+    Activate(Activate),
+    Permanent(Permanent),
+    State(State),
+    Trans(Trans),
+}
+
+/// An item of an instruction body (state, transition, permanent).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum BodyItem {
+    Block(Block),
+    Wait(WaitItem),
+    Supervise(SuperviseItem),
+}
+
+/// An element of a sequencer or branch.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum SeqElement {
+    Step(Step),
+    Trans(ChartTrans),
+    Parallel(Parallel),
+    Alt(Alt),
+    Jump(Jump),
+    Loop(Loop),
+}
+
+impl SeqElement {
+    pub fn cast(node: SyntaxNode) -> Option<SeqElement> {
+        Some(match node.kind() {
+            STEP => SeqElement::Step(Step { syntax: node }),
+            CHART_TRANS => SeqElement::Trans(ChartTrans { syntax: node }),
+            PARALLEL => SeqElement::Parallel(Parallel { syntax: node }),
+            ALT => SeqElement::Alt(Alt { syntax: node }),
+            JUMP => SeqElement::Jump(Jump { syntax: node }),
+            LOOP => SeqElement::Loop(Loop { syntax: node }),
+            _ => return None,
+        })
+    }
+
+    pub fn syntax(&self) -> &SyntaxNode {
+        match self {
+            SeqElement::Step(it) => &it.syntax,
+            SeqElement::Trans(it) => &it.syntax,
+            SeqElement::Parallel(it) => &it.syntax,
+            SeqElement::Alt(it) => &it.syntax,
+            SeqElement::Jump(it) => &it.syntax,
+            SeqElement::Loop(it) => &it.syntax,
+        }
+    }
+}
+
+/// A chart expression.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Expr {
+    Bin(BinExpr),
+    Prefix(PrefixExpr),
+    Paren(ParenExpr),
+    Path(Path),
+    Literal(Literal),
+}
+
+impl Expr {
+    pub fn cast(node: SyntaxNode) -> Option<Expr> {
+        Some(match node.kind() {
+            BIN_EXPR => Expr::Bin(BinExpr { syntax: node }),
+            PREFIX_EXPR => Expr::Prefix(PrefixExpr { syntax: node }),
+            PAREN_EXPR => Expr::Paren(ParenExpr { syntax: node }),
+            PATH => Expr::Path(Path { syntax: node }),
+            LITERAL => Expr::Literal(Literal { syntax: node }),
+            _ => return None,
+        })
+    }
+
+    pub fn syntax(&self) -> &SyntaxNode {
+        match self {
+            Expr::Bin(it) => &it.syntax,
+            Expr::Prefix(it) => &it.syntax,
+            Expr::Paren(it) => &it.syntax,
+            Expr::Path(it) => &it.syntax,
+            Expr::Literal(it) => &it.syntax,
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------- accessors
+
+impl SourceFile {
+    pub fn items(&self) -> impl Iterator<Item = Item> + use<> {
+        self.syntax.children().filter_map(Item::cast)
+    }
+}
+
+impl Mnemonic {
+    /// `simatic` or `international` as written.
+    pub fn set(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, SIMATIC_KW).or_else(|| token(&self.syntax, INTERNATIONAL_KW))
+    }
+}
+
+impl Name {
+    /// The IDENT, NUMBER or STRING token.
+    pub fn token(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+    /// The name's text (without quotes for a quoted symbol).
+    pub fn text(&self) -> String {
+        self.token().map(|t| unquote(t.text()).to_owned()).unwrap_or_default()
+    }
+}
+
+impl NameRef {
+    pub fn token(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+    pub fn text(&self) -> String {
+        self.token().map(|t| t.text().to_owned()).unwrap_or_default()
+    }
+}
+
+impl CommentString {
+    pub fn token(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, STRING)
+    }
+    /// The text between the quotes.
+    pub fn value(&self) -> String {
+        self.token().map(|t| unquote(t.text()).to_owned()).unwrap_or_default()
+    }
+}
+
+impl Body {
+    pub fn l_angle(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, L_ANGLE)
+    }
+    pub fn r_angle(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, R_ANGLE)
+    }
+    /// Items of an instruction body.
+    pub fn body_items(&self) -> impl Iterator<Item = BodyItem> + use<> {
+        self.syntax.children().filter_map(|n| match n.kind() {
+            BLOCK => Some(BodyItem::Block(Block { syntax: n })),
+            WAIT_ITEM => Some(BodyItem::Wait(WaitItem { syntax: n })),
+            SUPERVISE_ITEM => Some(BodyItem::Supervise(SuperviseItem { syntax: n })),
+            _ => None,
+        })
+    }
+    pub fn blocks(&self) -> impl Iterator<Item = Block> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl Graph {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+    pub fn members(&self) -> impl Iterator<Item = GraphMember> + use<> {
+        self.body().into_iter().flat_map(|b| {
+            b.syntax.children().filter_map(|n| match n.kind() {
+                VAR_SECTION => Some(GraphMember::VarSection(VarSection { syntax: n })),
+                ACTIVATE => Some(GraphMember::Activate(Activate { syntax: n })),
+                PERMANENT => Some(GraphMember::Permanent(Permanent { syntax: n })),
+                STATE => Some(GraphMember::State(State { syntax: n })),
+                TRANS => Some(GraphMember::Trans(Trans { syntax: n })),
+                _ => None,
+            })
+        })
+    }
+    pub fn var_sections(&self) -> impl Iterator<Item = VarSection> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn states(&self) -> impl Iterator<Item = State> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn transitions(&self) -> impl Iterator<Item = Trans> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+}
+
+impl VarSection {
+    /// `IN_KW`, `OUT_KW`, `IN_OUT_KW` or `STAT_KW`.
+    pub fn keyword(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+    pub fn decls(&self) -> impl Iterator<Item = VarDecl> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl VarDecl {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    pub fn ty(&self) -> Option<TypeRef> {
+        child(&self.syntax)
+    }
+    pub fn msg_kind(&self) -> Option<MsgKind> {
+        child(&self.syntax)
+    }
+    pub fn initial_value(&self) -> Option<InitialValue> {
+        child(&self.syntax)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+}
+
+impl TypeRef {
+    /// The type name token.
+    pub fn name(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, IDENT)
+    }
+    /// The length of `STRING[n]`.
+    pub fn length(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, NUMBER)
+    }
+}
+
+impl MsgKind {
+    /// `true` for `msg in`, `false` for `msg out`.
+    pub fn is_incoming(&self) -> bool {
+        token(&self.syntax, IN_KW).is_some()
+    }
+}
+
+impl InitialValue {
+    pub fn literal(&self) -> Option<Literal> {
+        child(&self.syntax)
+    }
+}
+
+impl Activate {
+    pub fn names(&self) -> impl Iterator<Item = NameRef> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl Permanent {
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+}
+
+impl State {
+    /// The state number token.
+    pub fn number(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, NUMBER)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn attributes(&self) -> impl Iterator<Item = Attribute> + use<> {
+        children(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+}
+
+impl Attribute {
+    pub fn keyword(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+}
+
+impl Trans {
+    pub fn source(&self) -> Option<Endpoint> {
+        child(&self.syntax)
+    }
+    pub fn target(&self) -> Option<Endpoint> {
+        children(&self.syntax).nth(1)
+    }
+    pub fn prio(&self) -> Option<PrioClause> {
+        child(&self.syntax)
+    }
+    pub fn attributes(&self) -> impl Iterator<Item = Attribute> + use<> {
+        children(&self.syntax)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+}
+
+/// What a transition endpoint names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EndpointKind {
+    State,
+    Any,
+    Return,
+}
+
+impl Endpoint {
+    pub fn token(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+    pub fn kind(&self) -> Option<EndpointKind> {
+        Some(match self.token()?.kind() {
+            ANY_KW => EndpointKind::Any,
+            RETURN_KW => EndpointKind::Return,
+            _ => EndpointKind::State,
+        })
+    }
+}
+
+impl PrioClause {
+    pub fn value(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, NUMBER)
+    }
+}
+
+impl Block {
+    pub fn label(&self) -> Option<Label> {
+        child(&self.syntax)
+    }
+    pub fn statements(&self) -> impl Iterator<Item = StlStmt> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl Label {
+    /// The label as written without its colon, upper-cased: `E`, `C-`, `C`, `X`, `?`, `!`.
+    pub fn name(&self) -> String {
+        let text = self.syntax.text().to_string();
+        text.trim_end_matches(':').to_ascii_uppercase()
+    }
+}
+
+impl WaitItem {
+    pub fn value(&self) -> Option<Operand> {
+        self.syntax.children().find_map(Operand::cast)
+    }
+}
+
+impl SuperviseItem {
+    pub fn value(&self) -> Option<Operand> {
+        self.syntax.children().find_map(Operand::cast)
+    }
+}
+
+impl StlStmt {
+    pub fn jump_label(&self) -> Option<JumpLabel> {
+        child(&self.syntax)
+    }
+    pub fn opcode(&self) -> Option<Opcode> {
+        child(&self.syntax)
+    }
+    pub fn operand(&self) -> Option<Operand> {
+        self.syntax.children().find_map(Operand::cast)
+    }
+    pub fn call_args(&self) -> Option<CallArgs> {
+        child(&self.syntax)
+    }
+    pub fn semicolon(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, SEMI)
+    }
+}
+
+impl Opcode {
+    /// The operation as written with white space removed (`U(` for `U (`), upper-cased.
+    pub fn text(&self) -> String {
+        let mut text = String::new();
+        for t in self.syntax.children_with_tokens().filter_map(|e| e.into_token()) {
+            if !t.kind().is_trivia() {
+                text.push_str(t.text());
+            }
+        }
+        text.to_ascii_uppercase()
+    }
+}
+
+impl Address {
+    /// The address as written with white space removed (`E1.0` for `E 1.0`).
+    pub fn compact_text(&self) -> String {
+        let mut text = String::new();
+        for t in self.syntax.children_with_tokens().filter_map(|e| e.into_token()) {
+            if !t.kind().is_trivia() {
+                text.push_str(t.text());
+            }
+        }
+        text
+    }
+}
+
+impl VarRef {
+    pub fn name(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, IDENT)
+    }
+}
+
+impl SymbolRef {
+    pub fn token(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, STRING)
+    }
+    pub fn name(&self) -> String {
+        self.token().map(|t| unquote(t.text()).to_owned()).unwrap_or_default()
+    }
+}
+
+impl Literal {
+    /// The constant's text (a joined `-` included).
+    pub fn text(&self) -> String {
+        self.syntax.text().to_string()
+    }
+}
+
+impl CallArgs {
+    pub fn blocks(&self) -> impl Iterator<Item = BlockRef> + use<> {
+        children(&self.syntax)
+    }
+    pub fn params(&self) -> impl Iterator<Item = Param> + use<> {
+        child::<ParamList>(&self.syntax).into_iter().flat_map(|l| children(&l.syntax))
+    }
+}
+
+impl BlockRef {
+    pub fn address(&self) -> Option<Address> {
+        child(&self.syntax)
+    }
+    pub fn name_ref(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+    pub fn symbol_ref(&self) -> Option<SymbolRef> {
+        child(&self.syntax)
+    }
+}
+
+impl Param {
+    pub fn formal(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+    pub fn value(&self) -> Option<Operand> {
+        self.syntax.children().filter_map(Operand::cast).nth(1)
+    }
+}
+
+impl Group {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    pub fn fc(&self) -> Option<BlockRef> {
+        child::<FcClause>(&self.syntax).and_then(|c| child(&c.syntax))
+    }
+    pub fn db(&self) -> Option<BlockRef> {
+        child::<DbClause>(&self.syntax).and_then(|c| child(&c.syntax))
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+    pub fn options(&self) -> impl Iterator<Item = GroupOption> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn instances(&self) -> impl Iterator<Item = Instance> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+}
+
+impl GroupOption {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    pub fn value(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, NUMBER)
+    }
+}
+
+impl Instance {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    /// The instantiated graph.
+    pub fn graph(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+    pub fn actuals(&self) -> impl Iterator<Item = Actual> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+}
+
+impl Actual {
+    pub fn formal(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+    pub fn value(&self) -> Option<Operand> {
+        self.syntax.children().filter_map(Operand::cast).nth(1)
+    }
+}
+
+impl MessageTarget {
+    pub fn instance(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+    pub fn message(&self) -> Option<NameRef> {
+        children(&self.syntax).nth(1)
+    }
+}
+
+impl Symbols {
+    pub fn symbols(&self) -> impl Iterator<Item = Symbol> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl Symbol {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    pub fn address(&self) -> Option<Address> {
+        child(&self.syntax)
+    }
+    pub fn ty(&self) -> Option<TypeRef> {
+        child(&self.syntax)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+}
+
+impl BlockInterface {
+    pub fn block(&self) -> Option<BlockRef> {
+        child(&self.syntax)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn var_sections(&self) -> impl Iterator<Item = VarSection> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl Chart {
+    /// `chart type NAME`?
+    pub fn is_type(&self) -> bool {
+        token(&self.syntax, TYPE_KW).is_some()
+    }
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+    pub fn var_sections(&self) -> impl Iterator<Item = VarSection> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn props(&self) -> impl Iterator<Item = ChartProp> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn sequencers(&self) -> impl Iterator<Item = Sequencer> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+}
+
+impl ChartProp {
+    /// `MODE_KW`, `SWITCHING_KW` or `RUN_KW`.
+    pub fn keyword(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+    pub fn value(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+}
+
+impl Sequencer {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    pub fn prio(&self) -> Option<PrioClause> {
+        child(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+    pub fn start(&self) -> Option<StartPart> {
+        self.body().and_then(|b| child(&b.syntax))
+    }
+    pub fn pre(&self) -> Option<PrePart> {
+        self.body().and_then(|b| child(&b.syntax))
+    }
+    pub fn post(&self) -> Option<PostPart> {
+        self.body().and_then(|b| child(&b.syntax))
+    }
+    pub fn elements(&self) -> impl Iterator<Item = SeqElement> + use<> {
+        self.body().into_iter().flat_map(|b| b.syntax.children().filter_map(SeqElement::cast))
+    }
+}
+
+macro_rules! conditions_and_statements {
+    ($($name:ident),*) => {$(
+        impl $name {
+            pub fn body(&self) -> Option<Body> {
+                child(&self.syntax)
+            }
+            pub fn conditions(&self) -> impl Iterator<Item = Condition> + use<> {
+                self.body().into_iter().flat_map(|b| children(&b.syntax))
+            }
+            pub fn assignments(&self) -> impl Iterator<Item = Assignment> + use<> {
+                self.body().into_iter().flat_map(|b| children(&b.syntax))
+            }
+        }
+    )*};
+}
+
+conditions_and_statements!(StartPart, PrePart, PostPart, StepPhase, ChartTrans, Jump, Loop);
+
+macro_rules! named_element {
+    ($($name:ident),*) => {$(
+        impl $name {
+            pub fn name(&self) -> Option<Name> {
+                child(&self.syntax)
+            }
+            pub fn comment(&self) -> Option<CommentString> {
+                child(&self.syntax)
+            }
+        }
+    )*};
+}
+
+named_element!(Step, ChartTrans, Jump, Loop);
+
+impl Jump {
+    pub fn target(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+}
+
+impl Loop {
+    pub fn target(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+}
+
+impl Step {
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+    pub fn phases(&self) -> impl Iterator<Item = StepPhase> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn actions(&self) -> impl Iterator<Item = QualifierAction> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn times(&self) -> impl Iterator<Item = StepTime> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    pub fn confirm(&self) -> Option<Confirm> {
+        self.body().and_then(|b| child(&b.syntax))
+    }
+}
+
+impl StepPhase {
+    /// `INIT_KW`, `RUN_KW` or `TERM_KW`.
+    pub fn keyword(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+}
+
+impl QualifierAction {
+    pub fn qualifier(&self) -> Option<SyntaxToken> {
+        self.syntax.children().find(|n| n.kind() == QUALIFIER).and_then(|n| first_token(&n))
+    }
+    /// The operand and, for `L D SD DS SL`, the time value.
+    pub fn operands(&self) -> impl Iterator<Item = Operand> + use<> {
+        self.syntax.children().filter_map(Operand::cast)
+    }
+}
+
+impl StepTime {
+    /// `MIN_KW` or `MAX_KW`.
+    pub fn keyword(&self) -> Option<SyntaxToken> {
+        first_token(&self.syntax)
+    }
+    pub fn value(&self) -> Option<Operand> {
+        self.syntax.children().find_map(Operand::cast)
+    }
+}
+
+impl Parallel {
+    pub fn branches(&self) -> impl Iterator<Item = Branch> + use<> {
+        child::<Body>(&self.syntax).into_iter().flat_map(|b| children(&b.syntax))
+    }
+}
+
+impl Alt {
+    pub fn branches(&self) -> impl Iterator<Item = Branch> + use<> {
+        child::<Body>(&self.syntax).into_iter().flat_map(|b| children(&b.syntax))
+    }
+}
+
+impl Branch {
+    pub fn elements(&self) -> impl Iterator<Item = SeqElement> + use<> {
+        child::<Body>(&self.syntax)
+            .into_iter()
+            .flat_map(|b| b.syntax.children().filter_map(SeqElement::cast))
+    }
+}
+
+impl Condition {
+    pub fn expr(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+}
+
+impl Assignment {
+    pub fn target(&self) -> Option<Path> {
+        child(&self.syntax)
+    }
+    pub fn value(&self) -> Option<Expr> {
+        self.syntax.children().filter_map(Expr::cast).nth(1)
+    }
+}
+
+impl BinExpr {
+    pub fn lhs(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+    pub fn rhs(&self) -> Option<Expr> {
+        self.syntax.children().filter_map(Expr::cast).nth(1)
+    }
+    /// The operator as written (`and`, `>=`, `=` ...), lower-cased.
+    pub fn op_text(&self) -> Option<String> {
+        self.syntax.children_with_tokens().find_map(|e| match e {
+            rowan::NodeOrToken::Node(n) if n.kind() == COMPARE_OP => Some(n.text().to_string()),
+            rowan::NodeOrToken::Token(t)
+                if !t.kind().is_trivia() && t.kind() != LEX_ERROR =>
+            {
+                Some(t.text().to_ascii_lowercase())
+            }
+            _ => None,
+        })
+    }
+}
+
+impl PrefixExpr {
+    pub fn operand(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+}
+
+impl ParenExpr {
+    pub fn expr(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+}
+
+impl Path {
+    /// The segments of a dotted path.
+    pub fn segments(&self) -> impl Iterator<Item = NameRef> + use<> {
+        children(&self.syntax)
+    }
+    pub fn address(&self) -> Option<Address> {
+        child(&self.syntax)
+    }
+    pub fn symbol(&self) -> Option<SymbolRef> {
+        child(&self.syntax)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn accessors_reach_the_parts_of_a_graph() {
+        let parse = crate::parse(
+            "graph G \"g\" < in < a : BOOL msg in; > state 3 \"S\" fault < C: U #a; > \
+             trans 3->any prio 2 auto < U a; > >",
+        );
+        let Some(Item::Graph(graph)) = parse.tree().items().next() else { panic!("no graph") };
+        assert_eq!(graph.name().map(|n| n.text()), Some("G".to_owned()));
+        let decl = graph.var_sections().next().and_then(|s| s.decls().next()).expect("decl");
+        assert!(decl.msg_kind().is_some_and(|m| m.is_incoming()));
+        let state = graph.states().next().expect("state");
+        assert_eq!(state.number().map(|t| t.text().to_owned()), Some("3".to_owned()));
+        let block = state.body().and_then(|b| b.blocks().next()).expect("block");
+        assert_eq!(block.label().map(|l| l.name()), Some("C".to_owned()));
+        let stmt = block.statements().next().expect("stmt");
+        assert!(matches!(stmt.operand(), Some(Operand::VarRef(_))));
+        let trans = graph.transitions().next().expect("trans");
+        assert_eq!(trans.target().and_then(|e| e.kind()), Some(EndpointKind::Any));
+        assert_eq!(trans.prio().and_then(|p| p.value()).map(|t| t.to_string()), Some("2".into()));
+    }
+
+    #[test]
+    fn accessors_reach_group_and_chart_parts() {
+        let parse = crate::parse(
+            "group Gr fc FC 1 < instance I : G < OM := J.IM; X := E 1.0; > > \
+             chart C < sequencer S < step A < N x; > jump J -> A < y; > > >",
+        );
+        let items: Vec<_> = parse.tree().items().collect();
+        let Item::Group(group) = &items[0] else { panic!("no group") };
+        assert!(group.fc().and_then(|b| b.address()).is_some());
+        let inst = group.instances().next().expect("instance");
+        let actuals: Vec<_> = inst.actuals().collect();
+        assert!(matches!(actuals[0].value(), Some(Operand::MessageTarget(_))));
+        assert!(matches!(actuals[1].value(), Some(Operand::Address(_))));
+        let Item::Chart(chart) = &items[1] else { panic!("no chart") };
+        let seq = chart.sequencers().next().expect("sequencer");
+        let elements: Vec<_> = seq.elements().collect();
+        assert_eq!(elements.len(), 2);
+        let SeqElement::Jump(jump) = &elements[1] else { panic!("no jump") };
+        assert_eq!(jump.target().map(|t| t.text()), Some("A".to_owned()));
+    }
 }

@@ -192,6 +192,11 @@ impl<'t> Parser<'t> {
         }
     }
 
+    /// Starts the root node; leading trivia belongs to it.
+    pub(crate) fn start_root(&mut self) {
+        self.builder.start_node(SOURCE_FILE.into());
+    }
+
     pub(crate) fn start(&mut self, kind: SyntaxKind) {
         self.flush_trivia();
         self.builder.start_node(kind.into());
@@ -308,12 +313,22 @@ impl<'t> Parser<'t> {
                     break;
                 }
                 R_ANGLE => break,
-                _ if !first && self.nth_on_new_line(0) && self.at_item_start() => break,
+                _ if !first && self.at_line_start_recovery_point() => break,
                 _ => self.bump(),
             }
             first = false;
         }
         self.finish_node();
+    }
+
+    /// During recovery, an item or member keyword that starts a line is taken as the start of
+    /// the next statement (a `;` was evidently lost before it).
+    fn at_line_start_recovery_point(&self) -> bool {
+        self.nth_on_new_line(0)
+            && (self.at_item_start()
+                || [Scope::Graph, Scope::Group, Scope::Sequencer, Scope::Chart]
+                    .iter()
+                    .any(|&s| self.at_member_start(s)))
     }
 
     /// Like `recover`, but for an item or member header: also stops before a `<`, so the
@@ -336,7 +351,7 @@ impl<'t> Parser<'t> {
                     break;
                 }
                 R_ANGLE => break,
-                _ if !first && self.nth_on_new_line(0) && self.at_item_start() => break,
+                _ if !first && self.at_line_start_recovery_point() => break,
                 _ => self.bump(),
             }
             first = false;

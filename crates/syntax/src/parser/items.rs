@@ -7,7 +7,7 @@ use super::{Parser, Scope, chart, graph, group, stl};
 use crate::{SyntaxError, SyntaxKind::*, error::ErrorCode};
 
 pub(crate) fn source_file(p: &mut Parser<'_>) {
-    p.start(SOURCE_FILE);
+    p.start_root();
     // HG0010 / HG0011: the first `mnemonic` must be the first item; later ones are ignored.
     let mut first_mnemonic: Option<(TextRange, String)> = None;
     let mut seen_item = false;
@@ -24,7 +24,8 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
                     .with_fix("Delete the '>'", range, ""),
             );
         } else if !item(p) {
-            p.error_and_recover("an item ('graph', 'group', 'chart', 'symbols', 'block' or 'mnemonic')");
+            p.error_expected("an item ('graph', 'group', 'chart', 'symbols', 'block' or 'mnemonic')");
+            recover_item(p);
         }
         if let Some(set) = set {
             let range = TextRange::new(start, p.last_end());
@@ -55,6 +56,36 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
         seen_item = true;
     }
     p.flush_rest();
+    p.finish_node();
+}
+
+/// Recovery at file level: skips to the next item keyword, past the next `;` or past the `>`
+/// that balances a `<` skipped on the way (so `grap G < ... >` is one error, not two).
+fn recover_item(p: &mut Parser<'_>) {
+    p.start(ERROR);
+    let mut depth = 0usize;
+    let mut first = true;
+    while !p.at_eof() {
+        match p.current() {
+            SEMI if depth == 0 => {
+                p.bump();
+                break;
+            }
+            L_ANGLE => depth += 1,
+            R_ANGLE if depth == 0 => break,
+            R_ANGLE => {
+                depth -= 1;
+                if depth == 0 {
+                    p.bump();
+                    break;
+                }
+            }
+            _ if !first && p.at_item_start() => break,
+            _ => {}
+        }
+        p.bump();
+        first = false;
+    }
     p.finish_node();
 }
 
