@@ -44,7 +44,10 @@ fn children<N: AstNode>(parent: &SyntaxNode) -> impl Iterator<Item = N> + use<N>
 }
 
 fn token(parent: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
-    parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
+    parent
+        .children_with_tokens()
+        .filter_map(|e| e.into_token())
+        .find(|t| t.kind() == kind)
 }
 
 /// The first significant (non-trivia) token directly inside `parent`.
@@ -530,7 +533,9 @@ impl Name {
     }
     /// The name's text (without quotes for a quoted symbol).
     pub fn text(&self) -> String {
-        self.token().map(|t| unquote(t.text()).to_owned()).unwrap_or_default()
+        self.token()
+            .map(|t| unquote(t.text()).to_owned())
+            .unwrap_or_default()
     }
 }
 
@@ -539,7 +544,9 @@ impl NameRef {
         first_token(&self.syntax)
     }
     pub fn text(&self) -> String {
-        self.token().map(|t| t.text().to_owned()).unwrap_or_default()
+        self.token()
+            .map(|t| t.text().to_owned())
+            .unwrap_or_default()
     }
 }
 
@@ -549,7 +556,9 @@ impl CommentString {
     }
     /// The text between the quotes.
     pub fn value(&self) -> String {
-        self.token().map(|t| unquote(t.text()).to_owned()).unwrap_or_default()
+        self.token()
+            .map(|t| unquote(t.text()).to_owned())
+            .unwrap_or_default()
     }
 }
 
@@ -792,7 +801,11 @@ impl Opcode {
     /// The operation as written with white space removed (`U(` for `U (`), upper-cased.
     pub fn text(&self) -> String {
         let mut text = String::new();
-        for t in self.syntax.children_with_tokens().filter_map(|e| e.into_token()) {
+        for t in self
+            .syntax
+            .children_with_tokens()
+            .filter_map(|e| e.into_token())
+        {
             if !t.kind().is_trivia() {
                 text.push_str(t.text());
             }
@@ -805,7 +818,11 @@ impl Address {
     /// The address as written with white space removed (`E1.0` for `E 1.0`).
     pub fn compact_text(&self) -> String {
         let mut text = String::new();
-        for t in self.syntax.children_with_tokens().filter_map(|e| e.into_token()) {
+        for t in self
+            .syntax
+            .children_with_tokens()
+            .filter_map(|e| e.into_token())
+        {
             if !t.kind().is_trivia() {
                 text.push_str(t.text());
             }
@@ -825,7 +842,9 @@ impl SymbolRef {
         token(&self.syntax, STRING)
     }
     pub fn name(&self) -> String {
-        self.token().map(|t| unquote(t.text()).to_owned()).unwrap_or_default()
+        self.token()
+            .map(|t| unquote(t.text()).to_owned())
+            .unwrap_or_default()
     }
 }
 
@@ -841,7 +860,9 @@ impl CallArgs {
         children(&self.syntax)
     }
     pub fn params(&self) -> impl Iterator<Item = Param> + use<> {
-        child::<ParamList>(&self.syntax).into_iter().flat_map(|l| children(&l.syntax))
+        child::<ParamList>(&self.syntax)
+            .into_iter()
+            .flat_map(|l| children(&l.syntax))
     }
 }
 
@@ -1024,7 +1045,9 @@ impl Sequencer {
         self.body().and_then(|b| child(&b.syntax))
     }
     pub fn elements(&self) -> impl Iterator<Item = SeqElement> + use<> {
-        self.body().into_iter().flat_map(|b| b.syntax.children().filter_map(SeqElement::cast))
+        self.body()
+            .into_iter()
+            .flat_map(|b| b.syntax.children().filter_map(SeqElement::cast))
     }
 }
 
@@ -1044,7 +1067,9 @@ macro_rules! conditions_and_statements {
     )*};
 }
 
-conditions_and_statements!(StartPart, PrePart, PostPart, StepPhase, ChartTrans, Jump, Loop);
+conditions_and_statements!(
+    StartPart, PrePart, PostPart, StepPhase, ChartTrans, Jump, Loop
+);
 
 macro_rules! named_element {
     ($($name:ident),*) => {$(
@@ -1100,7 +1125,10 @@ impl StepPhase {
 
 impl QualifierAction {
     pub fn qualifier(&self) -> Option<SyntaxToken> {
-        self.syntax.children().find(|n| n.kind() == QUALIFIER).and_then(|n| first_token(&n))
+        self.syntax
+            .children()
+            .find(|n| n.kind() == QUALIFIER)
+            .and_then(|n| first_token(&n))
     }
     /// The operand and, for `L D SD DS SL`, the time value.
     pub fn operands(&self) -> impl Iterator<Item = Operand> + use<> {
@@ -1120,13 +1148,17 @@ impl StepTime {
 
 impl Parallel {
     pub fn branches(&self) -> impl Iterator<Item = Branch> + use<> {
-        child::<Body>(&self.syntax).into_iter().flat_map(|b| children(&b.syntax))
+        child::<Body>(&self.syntax)
+            .into_iter()
+            .flat_map(|b| children(&b.syntax))
     }
 }
 
 impl Alt {
     pub fn branches(&self) -> impl Iterator<Item = Branch> + use<> {
-        child::<Body>(&self.syntax).into_iter().flat_map(|b| children(&b.syntax))
+        child::<Body>(&self.syntax)
+            .into_iter()
+            .flat_map(|b| children(&b.syntax))
     }
 }
 
@@ -1164,9 +1196,7 @@ impl BinExpr {
     pub fn op_text(&self) -> Option<String> {
         self.syntax.children_with_tokens().find_map(|e| match e {
             rowan::NodeOrToken::Node(n) if n.kind() == COMPARE_OP => Some(n.text().to_string()),
-            rowan::NodeOrToken::Token(t)
-                if !t.kind().is_trivia() && t.kind() != LEX_ERROR =>
-            {
+            rowan::NodeOrToken::Token(t) if !t.kind().is_trivia() && t.kind() != LEX_ERROR => {
                 Some(t.text().to_ascii_lowercase())
             }
             _ => None,
@@ -1209,19 +1239,34 @@ mod tests {
             "graph G \"g\" < in < a : BOOL msg in; > state 3 \"S\" fault < C: U #a; > \
              trans 3->any prio 2 auto < U a; > >",
         );
-        let Some(Item::Graph(graph)) = parse.tree().items().next() else { panic!("no graph") };
+        let Some(Item::Graph(graph)) = parse.tree().items().next() else {
+            panic!("no graph")
+        };
         assert_eq!(graph.name().map(|n| n.text()), Some("G".to_owned()));
-        let decl = graph.var_sections().next().and_then(|s| s.decls().next()).expect("decl");
+        let decl = graph
+            .var_sections()
+            .next()
+            .and_then(|s| s.decls().next())
+            .expect("decl");
         assert!(decl.msg_kind().is_some_and(|m| m.is_incoming()));
         let state = graph.states().next().expect("state");
-        assert_eq!(state.number().map(|t| t.text().to_owned()), Some("3".to_owned()));
+        assert_eq!(
+            state.number().map(|t| t.text().to_owned()),
+            Some("3".to_owned())
+        );
         let block = state.body().and_then(|b| b.blocks().next()).expect("block");
         assert_eq!(block.label().map(|l| l.name()), Some("C".to_owned()));
         let stmt = block.statements().next().expect("stmt");
         assert!(matches!(stmt.operand(), Some(Operand::VarRef(_))));
         let trans = graph.transitions().next().expect("trans");
-        assert_eq!(trans.target().and_then(|e| e.kind()), Some(EndpointKind::Any));
-        assert_eq!(trans.prio().and_then(|p| p.value()).map(|t| t.to_string()), Some("2".into()));
+        assert_eq!(
+            trans.target().and_then(|e| e.kind()),
+            Some(EndpointKind::Any)
+        );
+        assert_eq!(
+            trans.prio().and_then(|p| p.value()).map(|t| t.to_string()),
+            Some("2".into())
+        );
     }
 
     #[test]
@@ -1231,17 +1276,26 @@ mod tests {
              chart C < sequencer S < step A < N x; > jump J -> A < y; > > >",
         );
         let items: Vec<_> = parse.tree().items().collect();
-        let Item::Group(group) = &items[0] else { panic!("no group") };
+        let Item::Group(group) = &items[0] else {
+            panic!("no group")
+        };
         assert!(group.fc().and_then(|b| b.address()).is_some());
         let inst = group.instances().next().expect("instance");
         let actuals: Vec<_> = inst.actuals().collect();
-        assert!(matches!(actuals[0].value(), Some(Operand::MessageTarget(_))));
+        assert!(matches!(
+            actuals[0].value(),
+            Some(Operand::MessageTarget(_))
+        ));
         assert!(matches!(actuals[1].value(), Some(Operand::Address(_))));
-        let Item::Chart(chart) = &items[1] else { panic!("no chart") };
+        let Item::Chart(chart) = &items[1] else {
+            panic!("no chart")
+        };
         let seq = chart.sequencers().next().expect("sequencer");
         let elements: Vec<_> = seq.elements().collect();
         assert_eq!(elements.len(), 2);
-        let SeqElement::Jump(jump) = &elements[1] else { panic!("no jump") };
+        let SeqElement::Jump(jump) = &elements[1] else {
+            panic!("no jump")
+        };
         assert_eq!(jump.target().map(|t| t.text()), Some("A".to_owned()));
     }
 }

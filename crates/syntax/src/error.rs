@@ -105,11 +105,20 @@ pub struct SyntaxError {
 
 impl SyntaxError {
     pub fn new(code: ErrorCode, range: TextRange, message: impl Into<String>) -> SyntaxError {
-        SyntaxError { code, range, message: message.into(), related: Vec::new(), fixes: Vec::new() }
+        SyntaxError {
+            code,
+            range,
+            message: message.into(),
+            related: Vec::new(),
+            fixes: Vec::new(),
+        }
     }
 
     pub fn with_related(mut self, range: TextRange, message: impl Into<String>) -> SyntaxError {
-        self.related.push(Related { range, message: message.into() });
+        self.related.push(Related {
+            range,
+            message: message.into(),
+        });
         self
     }
 
@@ -121,7 +130,10 @@ impl SyntaxError {
     ) -> SyntaxError {
         self.fixes.push(Fix {
             title: title.into(),
-            edits: vec![TextEdit { range, new_text: new_text.into() }],
+            edits: vec![TextEdit {
+                range,
+                new_text: new_text.into(),
+            }],
         });
         self
     }

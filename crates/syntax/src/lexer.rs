@@ -23,7 +23,10 @@ pub fn tokenize(text: &str) -> Vec<Token<'_>> {
     if text.starts_with('\u{FEFF}') {
         // A leading byte-order mark is trivia.
         let bom = '\u{FEFF}'.len_utf8();
-        tokens.push(Token { kind: SyntaxKind::WHITESPACE, text: &text[..bom] });
+        tokens.push(Token {
+            kind: SyntaxKind::WHITESPACE,
+            text: &text[..bom],
+        });
         rest_start = bom;
     }
     let rest = &text[rest_start..];
@@ -56,7 +59,11 @@ pub(crate) fn token_errors(token: Token<'_>, offset: TextSize, errors: &mut Vec<
                     range,
                     "string is not closed before the end of the line",
                 )
-                .with_fix("Insert '\"' at the end of the line", TextRange::empty(range.end()), "\""),
+                .with_fix(
+                    "Insert '\"' at the end of the line",
+                    TextRange::empty(range.end()),
+                    "\"",
+                ),
             );
         }
         SyntaxKind::CHAR if !is_closed_char(token.text) => {
@@ -66,7 +73,11 @@ pub(crate) fn token_errors(token: Token<'_>, offset: TextSize, errors: &mut Vec<
                     range,
                     "character constant is not closed before the end of the line",
                 )
-                .with_fix("Insert \"'\" at the end of the line", TextRange::empty(range.end()), "'"),
+                .with_fix(
+                    "Insert \"'\" at the end of the line",
+                    TextRange::empty(range.end()),
+                    "'",
+                ),
             );
         }
         SyntaxKind::LEX_ERROR => {
@@ -88,7 +99,7 @@ fn is_closed(text: &str, quote: char) -> bool {
 
 /// `'...'` is closed when, after the opening quote, the quotes pair up to an odd count at the
 /// end (`''` inside stands for one quote).
-fn is_closed_char(text: &str) -> bool {
+pub(crate) fn is_closed_char(text: &str) -> bool {
     let body = &text[1..];
     let mut chars = body.chars().peekable();
     while let Some(c) = chars.next() {
@@ -160,14 +171,27 @@ mod tests {
     use SyntaxKind::*;
 
     fn kinds(text: &str) -> Vec<(SyntaxKind, &str)> {
-        tokenize(text).into_iter().map(|t| (t.kind, t.text)).collect()
+        tokenize(text)
+            .into_iter()
+            .map(|t| (t.kind, t.text))
+            .collect()
     }
 
     #[test]
     fn typed_constants_are_one_token() {
         for c in [
-            "B#16#FF", "DW#16#00A2_1234", "2#0101_0000", "L#-5", "B#(1, 14,100,120)", "S5T#1H_1M_0S",
-            "T#2.5H", "D#1994-3-15", "TOD#1:10:3.3", "DT#1994-3-15-1:10:3.3", "P#M50.0", "16#FF",
+            "B#16#FF",
+            "DW#16#00A2_1234",
+            "2#0101_0000",
+            "L#-5",
+            "B#(1, 14,100,120)",
+            "S5T#1H_1M_0S",
+            "T#2.5H",
+            "D#1994-3-15",
+            "TOD#1:10:3.3",
+            "DT#1994-3-15-1:10:3.3",
+            "P#M50.0",
+            "16#FF",
         ] {
             assert_eq!(kinds(c), vec![(TYPED_CONST, c)], "{c}");
         }
@@ -177,19 +201,34 @@ mod tests {
     fn addresses_split_into_words_numbers_and_dots() {
         assert_eq!(
             kinds("DB10.DBX 5.1"),
-            vec![(IDENT, "DB10"), (DOT, "."), (IDENT, "DBX"), (WHITESPACE, " "), (NUMBER, "5.1")]
+            vec![
+                (IDENT, "DB10"),
+                (DOT, "."),
+                (IDENT, "DBX"),
+                (WHITESPACE, " "),
+                (NUMBER, "5.1")
+            ]
         );
-        assert_eq!(kinds("E1.0"), vec![(IDENT, "E1"), (DOT, "."), (NUMBER, "0")]);
+        assert_eq!(
+            kinds("E1.0"),
+            vec![(IDENT, "E1"), (DOT, "."), (NUMBER, "0")]
+        );
     }
 
     #[test]
     fn error_runs_are_merged() {
-        assert_eq!(kinds("a$@b"), vec![(IDENT, "a"), (LEX_ERROR, "$@"), (IDENT, "b")]);
+        assert_eq!(
+            kinds("a$@b"),
+            vec![(IDENT, "a"), (LEX_ERROR, "$@"), (IDENT, "b")]
+        );
     }
 
     #[test]
     fn strings_and_chars_end_at_the_line() {
-        assert_eq!(kinds("\"ab\ncd"), vec![(STRING, "\"ab"), (WHITESPACE, "\n"), (IDENT, "cd")]);
+        assert_eq!(
+            kinds("\"ab\ncd"),
+            vec![(STRING, "\"ab"), (WHITESPACE, "\n"), (IDENT, "cd")]
+        );
         assert_eq!(kinds("'it''s'"), vec![(CHAR, "'it''s'")]);
         assert!(is_closed_char("'it''s'"));
         assert!(!is_closed_char("'it''s"));
@@ -199,6 +238,9 @@ mod tests {
 
     #[test]
     fn bom_is_trivia() {
-        assert_eq!(kinds("\u{FEFF}graph"), vec![(WHITESPACE, "\u{FEFF}"), (IDENT, "graph")]);
+        assert_eq!(
+            kinds("\u{FEFF}graph"),
+            vec![(WHITESPACE, "\u{FEFF}"), (IDENT, "graph")]
+        );
     }
 }

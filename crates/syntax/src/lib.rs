@@ -8,6 +8,7 @@ pub mod ast;
 mod error;
 mod kind;
 pub mod lexer;
+pub mod literal;
 mod parser;
 mod validation;
 
@@ -15,7 +16,7 @@ use std::fmt::Write;
 
 pub use error::{ErrorCode, Fix, Related, SyntaxError, TextEdit};
 pub use kind::{HiGraphLanguage, SyntaxElement, SyntaxKind, SyntaxNode, SyntaxToken};
-pub use rowan::{GreenNode, TextRange, TextSize, WalkEvent};
+pub use rowan::{self, GreenNode, TextRange, TextSize, WalkEvent};
 
 /// The result of parsing one file: the green tree and the syntax diagnostics.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -32,7 +33,9 @@ impl Parse {
 
     /// The typed root.
     pub fn tree(&self) -> ast::SourceFile {
-        ast::SourceFile { syntax: self.syntax_node() }
+        ast::SourceFile {
+            syntax: self.syntax_node(),
+        }
     }
 
     /// The green tree (cheap to clone, `Send + Sync`).

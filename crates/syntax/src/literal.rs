@@ -487,7 +487,7 @@ fn check_real(text: &str, unsigned: &str) -> Result<Literal, LiteralError> {
     ok(class, LiteralValue::Real(value))
 }
 
-// ====================================================================================== hex, binary
+// ============================================================================ hex, binary
 
 /// `B#16#h` (byte hex) or `B#(a,b[,c,d])` (byte tuple).
 fn check_byte(text: &str, prefix: &str, body: &str) -> Result<Literal, LiteralError> {
@@ -1327,52 +1327,24 @@ pub fn chart_literal_type(lit: &Literal, other_side: Option<&str>) -> &'static s
 mod tests {
     use super::*;
 
+    fn lit(text: &str) -> Literal {
+        check_literal(text).unwrap_or_else(|e| panic!("{text}: unexpected error: {}", e.message))
+    }
+
     fn value(text: &str) -> LiteralValue {
-        match check_literal(text) {
-            Ok(lit) => lit.value,
-            Err(e) => panic!("{text}: unexpected error {}", e.message),
-        }
+        lit(text).value
     }
 
     fn class(text: &str) -> LiteralClass {
-        match check_literal(text) {
-            Ok(lit) => lit.class,
-            Err(e) => panic!("{text}: unexpected error {}", e.message),
-        }
+        lit(text).class
     }
 
     fn ty(text: &str) -> &'static str {
-        match check_literal(text) {
-            Ok(lit) => literal_type(&lit),
-            Err(e) => panic!("{text}: unexpected error {}", e.message),
-        }
+        literal_type(&lit(text))
     }
 
-    /// The HG0006 message of `text`.
-    fn malformed_msg(text: &str) -> String {
-        match check_literal(text) {
-            Ok(lit) => panic!("{text}: expected HG0006, got {lit:?}"),
-            Err(e) => {
-                assert_eq!(e.code, LiteralErrorCode::Malformed, "{text}: {}", e.message);
-                e.message
-            }
-        }
-    }
-
-    /// The HG0007 message of `text`.
-    fn range_msg(text: &str) -> String {
-        match check_literal(text) {
-            Ok(lit) => panic!("{text}: expected HG0007, got {lit:?}"),
-            Err(e) => {
-                assert_eq!(
-                    e.code,
-                    LiteralErrorCode::OutOfRange,
-                    "{text}: {}",
-                    e.message
-                );
-                e.message
-            }
-        }
+    fn bits(value: u64, digits: u32) -> LiteralValue {
+        LiteralValue::Bits { value, digits }
     }
 
     fn millis(text: &str) -> i64 {
@@ -1382,37 +1354,50 @@ mod tests {
         }
     }
 
+    /// The error of `text`, which must have `code`.
+    fn error(text: &str, code: LiteralErrorCode) -> String {
+        match check_literal(text) {
+            Ok(lit) => panic!("{text}: expected {code:?}, got {lit:?}"),
+            Err(e) => {
+                assert_eq!(e.code, code, "{text}: {}", e.message);
+                e.message
+            }
+        }
+    }
+
+    /// Asserts HG0006 `invalid {class} constant '{text}': {reason}`.
+    #[track_caller]
+    fn bad(text: &str, class: &str, reason: &str) {
+        let expected = format!("invalid {class} constant '{text}': {reason}");
+        assert_eq!(error(text, LiteralErrorCode::Malformed), expected);
+    }
+
+    /// Asserts HG0007 `{text} is out of range for {class} ({range})`.
+    #[track_caller]
+    fn oor(text: &str, class: &str, range: &str) {
+        let expected = format!("{text} is out of range for {class} ({range})");
+        assert_eq!(error(text, LiteralErrorCode::OutOfRange), expected);
+    }
+
+    /// Asserts HG0007 `{text} is not a valid date`.
+    #[track_caller]
+    fn not_a_date(text: &str) {
+        let expected = format!("{text} is not a valid date");
+        assert_eq!(error(text, LiteralErrorCode::OutOfRange), expected);
+    }
+
     #[test]
     fn class_names() {
         let names: Vec<&str> = LiteralClass::ALL.iter().map(|c| c.name()).collect();
-        assert_eq!(
-            names,
-            [
-                "boolean",
-                "integer",
-                "real",
-                "byte hex",
-                "word hex",
-                "dword hex",
-                "binary",
-                "byte tuple",
-                "counter",
-                "long integer",
-                "S5 time",
-                "IEC time",
-                "date",
-                "time of day",
-                "date and time",
-                "character",
-                "string",
-                "pointer"
-            ]
-        );
+        let expected = "boolean, integer, real, byte hex, word hex, dword hex, binary, byte tuple, \
+                        counter, long integer, S5 time, IEC time, date, time of day, \
+                        date and time, character, string, pointer";
+        assert_eq!(names.join(", "), expected);
         assert_eq!(LiteralClass::S5Time.to_string(), "S5 time");
     }
 
     #[test]
-    fn error_codes() {
+    fn error_codes_and_display() {
         assert_eq!(LiteralErrorCode::Malformed.error_code(), ErrorCode::HG0006);
         assert_eq!(LiteralErrorCode::OutOfRange.error_code(), ErrorCode::HG0007);
         let e = check_literal("B#16#100").unwrap_err();
@@ -1429,50 +1414,34 @@ mod tests {
         assert_eq!(value("TRUE"), LiteralValue::Bool(true));
         assert_eq!(value("true"), LiteralValue::Bool(true));
         assert_eq!(value("False"), LiteralValue::Bool(false));
+        assert_eq!(class("FALSE"), LiteralClass::Boolean);
         assert_eq!(ty("FALSE"), "BOOL");
-        assert_eq!(
-            malformed_msg("TRUEX"),
-            "invalid typed constant 'TRUEX': not a constant"
-        );
+        bad("TRUEX", "typed", "not a constant");
     }
 
     #[test]
     fn integer() {
         assert_eq!(value("0"), LiteralValue::Int(0));
         assert_eq!(value("-5"), LiteralValue::Int(-5));
+        assert_eq!(value("007"), LiteralValue::Int(7));
         assert_eq!(value("2147483647"), LiteralValue::Int(2_147_483_647));
         assert_eq!(value("-2147483648"), LiteralValue::Int(-2_147_483_648));
-        assert_eq!(value("007"), LiteralValue::Int(7));
         assert_eq!(class("12"), LiteralClass::Integer);
         assert_eq!(ty("32767"), "INT");
         assert_eq!(ty("-32768"), "INT");
         assert_eq!(ty("32768"), "DINT");
         assert_eq!(ty("-32769"), "DINT");
-        assert_eq!(
-            range_msg("2147483648"),
-            "2147483648 is out of range for integer (-2147483648 to 2147483647)"
+        let range = "-2147483648 to 2147483647";
+        oor("2147483648", "integer", range);
+        oor("-2147483649", "integer", range);
+        oor(
+            "99999999999999999999999999999999999999999999",
+            "integer",
+            range,
         );
-        assert_eq!(
-            range_msg("-2147483649"),
-            "-2147483649 is out of range for integer (-2147483648 to 2147483647)"
-        );
-        assert_eq!(
-            range_msg("99999999999999999999999999999999999999999999"),
-            "99999999999999999999999999999999999999999999 is out of range for integer \
-             (-2147483648 to 2147483647)"
-        );
-        assert_eq!(
-            malformed_msg("-"),
-            "invalid integer constant '-': missing digits"
-        );
-        assert_eq!(
-            malformed_msg("12x"),
-            "invalid integer constant '12x': digit 'x' outside radix 10"
-        );
-        assert_eq!(
-            malformed_msg("--5"),
-            "invalid integer constant '--5': unexpected character '-'"
-        );
+        bad("-", "integer", "missing digits");
+        bad("12x", "integer", "digit 'x' outside radix 10");
+        bad("--5", "integer", "unexpected character '-'");
     }
 
     #[test]
@@ -1487,256 +1456,101 @@ mod tests {
         assert_eq!(value("1e-999"), LiteralValue::Real(0.0));
         assert_eq!(class("0.0"), LiteralClass::Real);
         assert_eq!(ty("0.0"), "REAL");
-        assert_eq!(
-            range_msg("1e39"),
-            "1e39 is out of range for real (-3.402823e+38 to 3.402823e+38)"
+        let range = "-3.402823e+38 to 3.402823e+38";
+        oor("1e39", "real", range);
+        oor("-3.4029e38", "real", range);
+        oor("1e999", "real", range);
+        bad("1.", "real", "missing digits after '.'");
+        bad("1e", "real", "missing exponent digits");
+        bad("1e+", "real", "missing exponent digits");
+        bad(
+            "-.5",
+            "real",
+            "missing digits before the fraction or exponent",
         );
-        assert_eq!(
-            range_msg("-3.4029e38"),
-            "-3.4029e38 is out of range for real (-3.402823e+38 to 3.402823e+38)"
-        );
-        assert_eq!(range_msg("1e999").split(' ').nth(6), Some("real"));
-        assert_eq!(
-            malformed_msg("1."),
-            "invalid real constant '1.': missing digits after '.'"
-        );
-        assert_eq!(
-            malformed_msg("1e"),
-            "invalid real constant '1e': missing exponent digits"
-        );
-        assert_eq!(
-            malformed_msg("1e+"),
-            "invalid real constant '1e+': missing exponent digits"
-        );
-        assert_eq!(
-            malformed_msg("-.5"),
-            "invalid real constant '-.5': missing digits before the fraction or exponent"
-        );
-        assert_eq!(
-            malformed_msg("1.5.2"),
-            "invalid real constant '1.5.2': unexpected character '.'"
-        );
+        bad("1.5.2", "real", "unexpected character '.'");
     }
 
     #[test]
     fn byte_hex() {
-        assert_eq!(
-            value("B#16#FF"),
-            LiteralValue::Bits {
-                value: 0xFF,
-                digits: 2
-            }
-        );
-        assert_eq!(
-            value("byte#16#10"),
-            LiteralValue::Bits {
-                value: 0x10,
-                digits: 2
-            }
-        );
-        assert_eq!(
-            value("b#16#0f"),
-            LiteralValue::Bits {
-                value: 0x0F,
-                digits: 2
-            }
-        );
-        assert_eq!(
-            value("B#16#0"),
-            LiteralValue::Bits {
-                value: 0,
-                digits: 1
-            }
-        );
-        assert_eq!(
-            value("B#16#F_F"),
-            LiteralValue::Bits {
-                value: 0xFF,
-                digits: 2
-            }
-        );
+        assert_eq!(value("B#16#FF"), bits(0xFF, 2));
+        assert_eq!(value("byte#16#10"), bits(0x10, 2));
+        assert_eq!(value("b#16#0f"), bits(0x0F, 2));
+        assert_eq!(value("B#16#0"), bits(0, 1));
+        assert_eq!(value("B#16#F_F"), bits(0xFF, 2));
+        assert_eq!(class("B#16#FF"), LiteralClass::ByteHex);
         assert_eq!(ty("B#16#FF"), "BYTE");
-        assert_eq!(
-            range_msg("B#16#100"),
-            "B#16#100 is out of range for byte hex (16#0 to 16#FF)"
-        );
-        assert_eq!(
-            malformed_msg("B#16#"),
-            "invalid byte hex constant 'B#16#': empty body"
-        );
-        assert_eq!(
-            malformed_msg("B#"),
-            "invalid byte hex constant 'B#': empty body"
-        );
-        assert_eq!(
-            malformed_msg("B#16#FG"),
-            "invalid byte hex constant 'B#16#FG': digit 'G' outside radix 16"
-        );
-        assert_eq!(
-            malformed_msg("B#FF"),
-            "invalid byte hex constant 'B#FF': expected '16#' or '(' after 'B#'"
-        );
-        assert_eq!(
-            malformed_msg("B#16#_F"),
-            "invalid byte hex constant 'B#16#_F': '_' must stand between two digits"
-        );
-        assert_eq!(
-            malformed_msg("B#16#F_"),
-            "invalid byte hex constant 'B#16#F_': '_' must stand between two digits"
-        );
-        assert_eq!(
-            malformed_msg("B#16#F__F"),
-            "invalid byte hex constant 'B#16#F__F': '_' must stand between two digits"
-        );
-        assert_eq!(
-            malformed_msg("B#16#F.F"),
-            "invalid byte hex constant 'B#16#F.F': unexpected character '.'"
-        );
+        oor("B#16#100", "byte hex", "16#0 to 16#FF");
+        bad("B#", "byte hex", "empty body");
+        bad("B#16#", "byte hex", "empty body");
+        bad("B#16#FG", "byte hex", "digit 'G' outside radix 16");
+        bad("B#FF", "byte hex", "expected '16#' or '(' after 'B#'");
+        bad("B#16#_F", "byte hex", "'_' must stand between two digits");
+        bad("B#16#F_", "byte hex", "'_' must stand between two digits");
+        bad("B#16#F__F", "byte hex", "'_' must stand between two digits");
+        bad("B#16#F.F", "byte hex", "unexpected character '.'");
     }
 
     #[test]
     fn word_hex() {
-        assert_eq!(
-            value("W#16#1000"),
-            LiteralValue::Bits {
-                value: 0x1000,
-                digits: 4
-            }
-        );
-        assert_eq!(
-            value("word#16#FFFF"),
-            LiteralValue::Bits {
-                value: 0xFFFF,
-                digits: 4
-            }
-        );
+        assert_eq!(value("W#16#1000"), bits(0x1000, 4));
+        assert_eq!(value("word#16#FFFF"), bits(0xFFFF, 4));
+        assert_eq!(class("W#16#1"), LiteralClass::WordHex);
         assert_eq!(ty("W#16#1"), "WORD");
-        assert_eq!(
-            range_msg("W#16#10000"),
-            "W#16#10000 is out of range for word hex (16#0 to 16#FFFF)"
-        );
-        assert_eq!(
-            malformed_msg("W#FF"),
-            "invalid word hex constant 'W#FF': expected '16#' after 'W#'"
-        );
-        assert_eq!(
-            malformed_msg("WORD#16#"),
-            "invalid word hex constant 'WORD#16#': empty body"
-        );
+        oor("W#16#10000", "word hex", "16#0 to 16#FFFF");
+        bad("W#FF", "word hex", "expected '16#' after 'W#'");
+        bad("WORD#16#", "word hex", "empty body");
     }
 
     #[test]
     fn dword_hex() {
-        assert_eq!(
-            value("DW#16#00A2_1234"),
-            LiteralValue::Bits {
-                value: 0x00A2_1234,
-                digits: 8
-            }
-        );
-        assert_eq!(
-            value("dword#16#FFFF_FFFF"),
-            LiteralValue::Bits {
-                value: 0xFFFF_FFFF,
-                digits: 8
-            }
-        );
+        assert_eq!(value("DW#16#00A2_1234"), bits(0x00A2_1234, 8));
+        assert_eq!(value("dword#16#FFFF_FFFF"), bits(0xFFFF_FFFF, 8));
+        assert_eq!(class("DW#16#0"), LiteralClass::DwordHex);
         assert_eq!(ty("DW#16#0"), "DWORD");
-        assert_eq!(
-            range_msg("DW#16#1_0000_0000"),
-            "DW#16#1_0000_0000 is out of range for dword hex (16#0 to 16#FFFF_FFFF)"
+        let range = "16#0 to 16#FFFF_FFFF";
+        oor("DW#16#1_0000_0000", "dword hex", range);
+        oor(
+            "DW#16#FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF",
+            "dword hex",
+            range,
         );
-        assert_eq!(
-            range_msg("DW#16#FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF"),
-            "DW#16#FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF is out of range for dword hex \
-             (16#0 to 16#FFFF_FFFF)"
-        );
-        assert_eq!(
-            malformed_msg("DW#16#12345Z"),
-            "invalid dword hex constant 'DW#16#12345Z': digit 'Z' outside radix 16"
-        );
+        bad("DW#16#12345Z", "dword hex", "digit 'Z' outside radix 16");
+        bad("DWORD#8#1", "dword hex", "expected '16#' after 'DWORD#'");
     }
 
     #[test]
     fn binary() {
-        assert_eq!(
-            value("2#0101_0000"),
-            LiteralValue::Bits {
-                value: 0x50,
-                digits: 8
-            }
-        );
+        assert_eq!(value("2#0101_0000"), bits(0x50, 8));
+        let dword = "2#1000_0001_0001_1000_1011_1011_0111_1111";
+        assert_eq!(value(dword), bits(0x8118_BB7F, 32));
+        assert_eq!(class("2#1"), LiteralClass::Binary);
         assert_eq!(ty("2#1"), "BYTE");
         assert_eq!(ty("2#0000_0000"), "BYTE");
         assert_eq!(ty("2#0_0000_0000"), "WORD");
         assert_eq!(ty("2#0001_0000_0000_0000"), "WORD");
         assert_eq!(ty("2#1_0000_0000_0000_0000"), "DWORD");
-        assert_eq!(
-            value("2#1000_0001_0001_1000_1011_1011_0111_1111"),
-            LiteralValue::Bits {
-                value: 0x8118_BB7F,
-                digits: 32
-            }
-        );
-        let thirty_three = format!("2#{}", "1".repeat(33));
-        assert_eq!(
-            range_msg(&thirty_three),
-            format!("{thirty_three} is out of range for binary (1 to 32 digits)")
-        );
-        let many_zeros = format!("2#{}", "0".repeat(40));
-        assert_eq!(range_msg(&many_zeros).split(' ').nth(6), Some("binary"));
-        assert_eq!(
-            malformed_msg("2#"),
-            "invalid binary constant '2#': empty body"
-        );
-        assert_eq!(
-            malformed_msg("2#012"),
-            "invalid binary constant '2#012': digit '2' outside radix 2"
-        );
-        assert_eq!(
-            malformed_msg("2#_01"),
-            "invalid binary constant '2#_01': '_' must stand between two digits"
-        );
+        assert_eq!(ty(dword), "DWORD");
+        oor(&format!("2#{}", "1".repeat(33)), "binary", "1 to 32 digits");
+        oor(&format!("2#{}", "0".repeat(40)), "binary", "1 to 32 digits");
+        bad("2#", "binary", "empty body");
+        bad("2#012", "binary", "digit '2' outside radix 2");
+        bad("2#_01", "binary", "'_' must stand between two digits");
     }
 
     #[test]
-    fn number_prefixes() {
-        assert_eq!(
-            malformed_msg("16#FF"),
-            "invalid typed constant '16#FF': a number followed by '#' must be '2#'"
-        );
-        assert_eq!(
-            malformed_msg("8#17"),
-            "invalid typed constant '8#17': a number followed by '#' must be '2#'"
-        );
-        assert_eq!(
-            malformed_msg("02#1"),
-            "invalid typed constant '02#1': a number followed by '#' must be '2#'"
-        );
-    }
-
-    #[test]
-    fn unknown_prefix() {
-        assert_eq!(
-            malformed_msg("X#1"),
-            "invalid typed constant 'X#1': unknown prefix 'X#'"
-        );
-        assert_eq!(
-            malformed_msg("Foo#12"),
-            "invalid typed constant 'Foo#12': unknown prefix 'Foo#'"
-        );
-        assert_eq!(
-            malformed_msg("1A#5"),
-            "invalid typed constant '1A#5': unknown prefix '1A#'"
-        );
-        assert_eq!(
-            malformed_msg("#"),
-            "invalid typed constant '#': missing prefix before '#'"
-        );
-        assert_eq!(
-            malformed_msg("ä#1"),
-            "invalid typed constant 'ä#1': unknown prefix 'ä#'"
-        );
+    fn number_prefixes_and_unknown_prefixes() {
+        let number = "a number followed by '#' must be '2#'";
+        bad("16#FF", "typed", number);
+        bad("8#17", "typed", number);
+        bad("02#1", "typed", number);
+        bad("X#1", "typed", "unknown prefix 'X#'");
+        bad("Foo#12", "typed", "unknown prefix 'Foo#'");
+        bad("1A#5", "typed", "unknown prefix '1A#'");
+        bad("ä#1", "typed", "unknown prefix 'ä#'");
+        bad("#", "typed", "missing prefix before '#'");
+        bad("", "typed", "not a constant");
+        bad("abc", "typed", "not a constant");
     }
 
     #[test]
@@ -1756,52 +1570,24 @@ mod tests {
         assert_eq!(class("B#(0,0)"), LiteralClass::ByteTuple);
         assert_eq!(ty("B#(10,20)"), "WORD");
         assert_eq!(ty("B#(1,2,3,4)"), "DWORD");
-        assert_eq!(
-            range_msg("B#(256,0)"),
-            "B#(256,0) is out of range for byte tuple (0 to 255)"
-        );
-        assert_eq!(
-            range_msg("B#(1,2,3,99999999999999999999999999999999999999999)")
-                .split(" is ")
-                .nth(1),
-            Some("out of range for byte tuple (0 to 255)")
+        oor("B#(256,0)", "byte tuple", "0 to 255");
+        oor(
+            "B#(1,2,3,99999999999999999999999999999999999999999)",
+            "byte tuple",
+            "0 to 255",
         );
         let count = "a byte tuple has 2 or 4 elements";
         for t in ["B#()", "B#( )", "B#(1)", "B#(1,2,3)", "B#(1,2,3,4,5)"] {
-            assert_eq!(
-                malformed_msg(t),
-                format!("invalid byte tuple constant '{t}': {count}")
-            );
+            bad(t, "byte tuple", count);
         }
-        assert_eq!(
-            malformed_msg("B#(1,,2)"),
-            "invalid byte tuple constant 'B#(1,,2)': empty element"
-        );
-        assert_eq!(
-            malformed_msg("B#("),
-            "invalid byte tuple constant 'B#(': missing ')'"
-        );
-        assert_eq!(
-            malformed_msg("B#(1,2"),
-            "invalid byte tuple constant 'B#(1,2': missing ')'"
-        );
-        assert_eq!(
-            malformed_msg("B#(1,2)3"),
-            "invalid byte tuple constant 'B#(1,2)3': unexpected text after ')'"
-        );
-        assert_eq!(
-            malformed_msg("B#(1,-2)"),
-            "invalid byte tuple constant 'B#(1,-2)': unexpected character '-'"
-        );
-        assert_eq!(
-            malformed_msg("B#(1,A)"),
-            "invalid byte tuple constant 'B#(1,A)': digit 'A' outside radix 10"
-        );
-        // Shape errors come before the range check.
-        assert_eq!(
-            malformed_msg("B#(256,1,2)"),
-            format!("invalid byte tuple constant 'B#(256,1,2)': {count}")
-        );
+        // The shape is checked before the range.
+        bad("B#(256,1,2)", "byte tuple", count);
+        bad("B#(1,,2)", "byte tuple", "empty element");
+        bad("B#(", "byte tuple", "missing ')'");
+        bad("B#(1,2", "byte tuple", "missing ')'");
+        bad("B#(1,2)3", "byte tuple", "unexpected text after ')'");
+        bad("B#(1,-2)", "byte tuple", "unexpected character '-'");
+        bad("B#(1,A)", "byte tuple", "digit 'A' outside radix 10");
     }
 
     #[test]
@@ -1811,22 +1597,10 @@ mod tests {
         assert_eq!(value("C#999"), LiteralValue::Int(999));
         assert_eq!(class("C#1"), LiteralClass::Counter);
         assert_eq!(ty("C#1"), "WORD");
-        assert_eq!(
-            range_msg("C#1000"),
-            "C#1000 is out of range for counter (0 to 999)"
-        );
-        assert_eq!(
-            malformed_msg("C#"),
-            "invalid counter constant 'C#': empty body"
-        );
-        assert_eq!(
-            malformed_msg("C#-1"),
-            "invalid counter constant 'C#-1': unexpected character '-'"
-        );
-        assert_eq!(
-            malformed_msg("C#9A"),
-            "invalid counter constant 'C#9A': digit 'A' outside radix 10"
-        );
+        oor("C#1000", "counter", "0 to 999");
+        bad("C#", "counter", "empty body");
+        bad("C#-1", "counter", "unexpected character '-'");
+        bad("C#9A", "counter", "digit 'A' outside radix 10");
     }
 
     #[test]
@@ -1835,27 +1609,14 @@ mod tests {
         assert_eq!(value("L#-5"), LiteralValue::Int(-5));
         assert_eq!(value("l#-2147483648"), LiteralValue::Int(-2_147_483_648));
         assert_eq!(value("L#2147483647"), LiteralValue::Int(2_147_483_647));
+        assert_eq!(class("L#1"), LiteralClass::LongInteger);
         assert_eq!(ty("L#1"), "DINT");
-        assert_eq!(
-            range_msg("L#2147483648"),
-            "L#2147483648 is out of range for long integer (-2147483648 to 2147483647)"
-        );
-        assert_eq!(
-            range_msg("L#-2147483649"),
-            "L#-2147483649 is out of range for long integer (-2147483648 to 2147483647)"
-        );
-        assert_eq!(
-            malformed_msg("L#"),
-            "invalid long integer constant 'L#': empty body"
-        );
-        assert_eq!(
-            malformed_msg("L#-"),
-            "invalid long integer constant 'L#-': missing digits after '-'"
-        );
-        assert_eq!(
-            malformed_msg("L#1.5"),
-            "invalid long integer constant 'L#1.5': unexpected character '.'"
-        );
+        let range = "-2147483648 to 2147483647";
+        oor("L#2147483648", "long integer", range);
+        oor("L#-2147483649", "long integer", range);
+        bad("L#", "long integer", "empty body");
+        bad("L#-", "long integer", "missing digits after '-'");
+        bad("L#1.5", "long integer", "unexpected character '.'");
     }
 
     #[test]
@@ -1872,39 +1633,26 @@ mod tests {
         assert_eq!(millis("S5T#1.5S"), 1_500);
         assert_eq!(class("S5T#1S"), LiteralClass::S5Time);
         assert_eq!(ty("S5T#1S"), "S5TIME");
-        let range = "is out of range for S5 time (10MS to 2H46M30S)";
-        assert_eq!(range_msg("S5T#3H"), format!("S5T#3H {range}"));
-        assert_eq!(range_msg("S5T#5MS"), format!("S5T#5MS {range}"));
-        assert_eq!(range_msg("S5T#9.9MS"), format!("S5T#9.9MS {range}"));
-        assert_eq!(range_msg("S5T#0.001MS"), format!("S5T#0.001MS {range}"));
-        assert_eq!(
-            range_msg("S5T#2H46M30S1MS"),
-            format!("S5T#2H46M30S1MS {range}")
+        let range = "10MS to 2H46M30S";
+        oor("S5T#3H", "S5 time", range);
+        oor("S5T#5MS", "S5 time", range);
+        oor("S5T#9.9MS", "S5 time", range);
+        oor("S5T#0.001MS", "S5 time", range);
+        oor("S5T#2H46M30S1MS", "S5 time", range);
+        oor("S5T#2H46M30.0001S", "S5 time", range);
+        bad("S5T#", "S5 time", "empty body");
+        bad("S5T#1D", "S5 time", "unit 'D' not allowed in S5 time");
+        bad("S5T#-5S", "S5 time", "an S5 time cannot be negative");
+        bad("S5T#1M1H", "S5 time", "unit 'H' repeated or out of order");
+        bad(
+            "S5T#1.5M1S",
+            "S5 time",
+            "fraction only allowed on the last unit",
         );
-        assert_eq!(
-            range_msg("S5T#2H46M30.0001S"),
-            format!("S5T#2H46M30.0001S {range}")
-        );
-        assert_eq!(
-            malformed_msg("S5T#"),
-            "invalid S5 time constant 'S5T#': empty body"
-        );
-        assert_eq!(
-            malformed_msg("S5T#1D"),
-            "invalid S5 time constant 'S5T#1D': unit 'D' not allowed in S5 time"
-        );
-        assert_eq!(
-            malformed_msg("S5T#-5S"),
-            "invalid S5 time constant 'S5T#-5S': an S5 time cannot be negative"
-        );
-        assert_eq!(
-            malformed_msg("S5T#1M1H"),
-            "invalid S5 time constant 'S5T#1M1H': unit 'H' repeated or out of order"
-        );
-        assert_eq!(
-            malformed_msg("S5T#1H__1M"),
-            "invalid S5 time constant 'S5T#1H__1M': '_' must stand between two digits or two unit \
-             groups"
+        bad(
+            "S5T#1H__1M",
+            "S5 time",
+            "'_' must stand between two digits or two unit groups",
         );
     }
 
@@ -1924,270 +1672,147 @@ mod tests {
         assert_eq!(millis("T#1_000MS"), 1_000);
         assert_eq!(millis("T#0.5MS"), 0);
         assert_eq!(millis("T#1.0005S"), 1_000);
+        assert_eq!(millis("T#90M"), 5_400_000); // fields are not limited one by one
+        assert_eq!(millis("T#2147483647MS"), 2_147_483_647);
         assert_eq!(millis("T#24D20H31M23S647MS"), 2_147_483_647);
         assert_eq!(millis("T#-24D20H31M23S648MS"), -2_147_483_648);
         assert_eq!(millis("T#-24D_20H_31M_23S_648MS"), -2_147_483_648);
-        assert_eq!(millis("T#2147483647MS"), 2_147_483_647);
-        assert_eq!(millis("T#90M"), 5_400_000); // fields are not limited one by one
         assert_eq!(class("T#1S"), LiteralClass::IecTime);
         assert_eq!(ty("T#1S"), "TIME");
-        let range = "is out of range for IEC time (-24D20H31M23S648MS to 24D20H31M23S647MS)";
-        assert_eq!(range_msg("T#25D"), format!("T#25D {range}"));
-        assert_eq!(
-            range_msg("T#24D20H31M23S648MS"),
-            format!("T#24D20H31M23S648MS {range}")
+        let range = "-24D20H31M23S648MS to 24D20H31M23S647MS";
+        oor("T#25D", "IEC time", range);
+        oor("T#24D20H31M23S648MS", "IEC time", range);
+        oor("T#-24D20H31M23S649MS", "IEC time", range);
+        oor("T#24D20H31M23S647.5MS", "IEC time", range);
+        oor(
+            "T#99999999999999999999999999999999999999999999999D",
+            "IEC time",
+            range,
         );
-        assert_eq!(
-            range_msg("T#-24D20H31M23S649MS"),
-            format!("T#-24D20H31M23S649MS {range}")
-        );
-        assert_eq!(
-            range_msg("T#24D20H31M23S647.5MS"),
-            format!("T#24D20H31M23S647.5MS {range}")
-        );
-        let huge = "T#99999999999999999999999999999999999999999999999D";
-        assert_eq!(range_msg(huge), format!("{huge} {range}"));
     }
 
     #[test]
-    fn time_malformed() {
-        let m = |t: &str, reason: &str| {
-            assert_eq!(
-                malformed_msg(t),
-                format!("invalid IEC time constant '{t}': {reason}")
-            );
-        };
-        m("T#", "empty body");
-        m("T#-", "missing value after '-'");
-        m("T#5S3M", "unit 'M' repeated or out of order");
-        m("T#5S5S", "unit 'S' repeated or out of order");
-        m("T#1MS1S", "unit 'S' repeated or out of order");
-        m("T#2.5H3M", "fraction only allowed on the last unit");
-        m("T#5", "missing unit after '5'");
-        m("T#5X", "unknown unit 'X'");
-        m("T#5HMS", "unknown unit 'HMS'");
-        m("T#.5S", "missing digits before '.'");
-        m("T#5.S", "missing digits after '.'");
-        m("T#S", "missing number before 'S'");
-        m(
-            "T#_5S",
-            "'_' must stand between two digits or two unit groups",
-        );
-        m(
-            "T#5_S",
-            "'_' must stand between two digits or two unit groups",
-        );
-        m(
-            "T#5S_",
-            "'_' must stand between two digits or two unit groups",
-        );
-        m(
-            "T#5S_M",
-            "'_' must stand between two digits or two unit groups",
-        );
-        m(
-            "T#1__0S",
-            "'_' must stand between two digits or two unit groups",
-        );
-        m("T#--5S", "unexpected character '-'");
-        m("T#5S-", "unexpected character '-'");
-        m("T#5S:1", "unexpected character ':'");
-        m("T#1.5.5S", "unexpected character '.'");
+    fn iec_time_malformed() {
+        let underscore = "'_' must stand between two digits or two unit groups";
+        for (t, reason) in [
+            ("T#", "empty body"),
+            ("T#-", "missing value after '-'"),
+            ("T#5S3M", "unit 'M' repeated or out of order"),
+            ("T#5S5S", "unit 'S' repeated or out of order"),
+            ("T#1MS1S", "unit 'S' repeated or out of order"),
+            ("T#2.5H3M", "fraction only allowed on the last unit"),
+            ("T#5", "missing unit after '5'"),
+            ("T#5X", "unknown unit 'X'"),
+            ("T#5HMS", "unknown unit 'HMS'"),
+            ("T#.5S", "missing digits before '.'"),
+            ("T#5.S", "missing digits after '.'"),
+            ("T#S", "missing number before 'S'"),
+            ("T#_5S", underscore),
+            ("T#5_S", underscore),
+            ("T#5S_", underscore),
+            ("T#5S_M", underscore),
+            ("T#1__0S", underscore),
+            ("T#--5S", "unexpected character '-'"),
+            ("T#5S-", "unexpected character '-'"),
+            ("T#5S:1", "unexpected character ':'"),
+            ("T#1.5.5S", "unexpected character '.'"),
+        ] {
+            bad(t, "IEC time", reason);
+        }
     }
 
     #[test]
     fn date() {
-        assert_eq!(
-            value("D#1994-3-15"),
-            LiteralValue::Date {
-                year: 1994,
-                month: 3,
-                day: 15
-            }
-        );
-        assert_eq!(
-            value("DATE#1994-03-05"),
-            LiteralValue::Date {
-                year: 1994,
-                month: 3,
-                day: 5
-            }
-        );
-        assert_eq!(
-            value("d#1990-1-1"),
-            LiteralValue::Date {
-                year: 1990,
-                month: 1,
-                day: 1
-            }
-        );
-        assert_eq!(
-            value("D#2168-12-31"),
-            LiteralValue::Date {
-                year: 2168,
-                month: 12,
-                day: 31
-            }
-        );
-        assert_eq!(
-            value("D#2000-2-29"),
-            LiteralValue::Date {
-                year: 2000,
-                month: 2,
-                day: 29
-            }
-        );
-        assert_eq!(
-            value("D#1996-2-29"),
-            LiteralValue::Date {
-                year: 1996,
-                month: 2,
-                day: 29
-            }
-        );
+        let date = |year, month, day| LiteralValue::Date { year, month, day };
+        assert_eq!(value("D#1994-3-15"), date(1994, 3, 15));
+        assert_eq!(value("DATE#1994-03-05"), date(1994, 3, 5));
+        assert_eq!(value("d#1990-1-1"), date(1990, 1, 1));
+        assert_eq!(value("D#2168-12-31"), date(2168, 12, 31));
+        assert_eq!(value("D#2000-2-29"), date(2000, 2, 29));
+        assert_eq!(value("D#1996-2-29"), date(1996, 2, 29));
+        assert_eq!(class("D#1994-3-15"), LiteralClass::Date);
         assert_eq!(ty("D#1994-3-15"), "DATE");
-        assert_eq!(range_msg("D#1994-2-30"), "D#1994-2-30 is not a valid date");
-        assert_eq!(range_msg("D#1995-2-29"), "D#1995-2-29 is not a valid date");
-        assert_eq!(range_msg("D#2100-2-29"), "D#2100-2-29 is not a valid date");
-        assert_eq!(range_msg("D#1994-13-1"), "D#1994-13-1 is not a valid date");
-        assert_eq!(range_msg("D#1994-0-1"), "D#1994-0-1 is not a valid date");
-        assert_eq!(range_msg("D#1994-4-31"), "D#1994-4-31 is not a valid date");
-        assert_eq!(range_msg("D#1994-1-0"), "D#1994-1-0 is not a valid date");
-        let range = "is out of range for date (1990-1-1 to 2168-12-31)";
-        assert_eq!(range_msg("D#1989-12-31"), format!("D#1989-12-31 {range}"));
-        assert_eq!(range_msg("D#2169-1-1"), format!("D#2169-1-1 {range}"));
-        let m = |t: &str, reason: &str| {
-            assert_eq!(
-                malformed_msg(t),
-                format!("invalid date constant '{t}': {reason}")
-            );
-        };
-        m("D#", "empty body");
-        m("D#1994-3", "expected 'yyyy-m-d'");
-        m("D#1994-3-15-1", "expected 'yyyy-m-d'");
-        m("D#1994--15", "expected 'yyyy-m-d'");
-        m("D#1994-3-1x", "expected 'yyyy-m-d'");
-        m("D#1994:3:15", "expected 'yyyy-m-d'");
-        m("D#1994-3-_1", "'_' must stand between two digits");
+        let invalid =
+            "D#1994-2-30 D#1995-2-29 D#2100-2-29 D#1994-13-1 D#1994-0-1 D#1994-4-31 D#1994-1-0";
+        for t in invalid.split_whitespace() {
+            not_a_date(t);
+        }
+        oor("D#1989-12-31", "date", "1990-1-1 to 2168-12-31");
+        oor("D#2169-1-1", "date", "1990-1-1 to 2168-12-31");
+        bad("D#", "date", "empty body");
+        for t in "D#1994-3 D#1994-3-15-1 D#1994--15 D#1994-3-1x D#1994:3:15".split_whitespace() {
+            bad(t, "date", "expected 'yyyy-m-d'");
+        }
+        bad("D#1994-3-_1", "date", "'_' must stand between two digits");
     }
 
     #[test]
     fn time_of_day() {
-        assert_eq!(
-            value("TOD#1:10:3.3"),
-            LiteralValue::TimeOfDay { millis: 4_203_300 }
-        );
-        assert_eq!(
-            value("TIME_OF_DAY#1:10:3.3"),
-            LiteralValue::TimeOfDay { millis: 4_203_300 }
-        );
-        assert_eq!(value("tod#0:0:0.0"), LiteralValue::TimeOfDay { millis: 0 });
-        assert_eq!(value("TOD#0:0:0"), LiteralValue::TimeOfDay { millis: 0 });
-        assert_eq!(
-            value("TOD#0:0:0.03"),
-            LiteralValue::TimeOfDay { millis: 30 }
-        );
-        assert_eq!(
-            value("TOD#0:0:0.003"),
-            LiteralValue::TimeOfDay { millis: 3 }
-        );
-        assert_eq!(
-            value("TOD#23:59:59.999"),
-            LiteralValue::TimeOfDay { millis: 86_399_999 }
-        );
+        let tod = |millis| LiteralValue::TimeOfDay { millis };
+        assert_eq!(value("TOD#1:10:3.3"), tod(4_203_300));
+        assert_eq!(value("TIME_OF_DAY#1:10:3.3"), tod(4_203_300));
+        assert_eq!(value("tod#0:0:0.0"), tod(0));
+        assert_eq!(value("TOD#0:0:0"), tod(0));
+        assert_eq!(value("TOD#0:0:0.03"), tod(30));
+        assert_eq!(value("TOD#0:0:0.003"), tod(3));
+        assert_eq!(value("TOD#23:59:59.999"), tod(86_399_999));
+        assert_eq!(class("TOD#1:0:0"), LiteralClass::TimeOfDay);
         assert_eq!(ty("TOD#1:0:0"), "TIME_OF_DAY");
-        let range = "is out of range for time of day (0:0:0.0 to 23:59:59.999)";
-        assert_eq!(range_msg("TOD#24:0:0.0"), format!("TOD#24:0:0.0 {range}"));
-        assert_eq!(range_msg("TOD#0:60:0"), format!("TOD#0:60:0 {range}"));
-        assert_eq!(range_msg("TOD#0:0:60"), format!("TOD#0:0:60 {range}"));
-        let m = |t: &str, reason: &str| {
-            assert_eq!(
-                malformed_msg(t),
-                format!("invalid time of day constant '{t}': {reason}")
-            );
-        };
-        m("TOD#", "empty body");
-        m("TOD#1:10", "expected 'h:m:s[.fff]'");
-        m("TOD#1:10:3:3", "expected 'h:m:s[.fff]'");
-        m("TOD#1::3", "expected 'h:m:s[.fff]'");
-        m("TOD#1:10:3.", "expected 'h:m:s[.fff]'");
-        m("TOD#1:10:3.1234", "at most 3 digits after '.'");
-        m("TOD#1H", "expected 'h:m:s[.fff]'");
+        let range = "0:0:0.0 to 23:59:59.999";
+        oor("TOD#24:0:0.0", "time of day", range);
+        oor("TOD#0:60:0", "time of day", range);
+        oor("TOD#0:0:60", "time of day", range);
+        bad("TOD#", "time of day", "empty body");
+        for t in "TOD#1:10 TOD#1:10:3:3 TOD#1::3 TOD#1:10:3. TOD#1H".split_whitespace() {
+            bad(t, "time of day", "expected 'h:m:s[.fff]'");
+        }
+        bad(
+            "TOD#1:10:3.1234",
+            "time of day",
+            "at most 3 digits after '.'",
+        );
     }
 
     #[test]
     fn date_and_time() {
-        assert_eq!(
-            value("DT#1994-3-15-1:10:3.3"),
-            LiteralValue::DateAndTime {
-                year: 1994,
-                month: 3,
-                day: 15,
-                millis: 4_203_300
-            }
-        );
+        let dt = |year, month, day, millis| LiteralValue::DateAndTime {
+            year,
+            month,
+            day,
+            millis,
+        };
+        assert_eq!(value("DT#1994-3-15-1:10:3.3"), dt(1994, 3, 15, 4_203_300));
         assert_eq!(
             value("DATE_AND_TIME#1994-3-15-1:10:3.3"),
-            LiteralValue::DateAndTime {
-                year: 1994,
-                month: 3,
-                day: 15,
-                millis: 4_203_300
-            }
+            dt(1994, 3, 15, 4_203_300)
         );
-        assert_eq!(
-            value("dt#1990-1-1-0:0:0.0"),
-            LiteralValue::DateAndTime {
-                year: 1990,
-                month: 1,
-                day: 1,
-                millis: 0
-            }
-        );
+        assert_eq!(value("dt#1990-1-1-0:0:0.0"), dt(1990, 1, 1, 0));
         assert_eq!(
             value("DT#2089-12-31-23:59:59.999"),
-            LiteralValue::DateAndTime {
-                year: 2089,
-                month: 12,
-                day: 31,
-                millis: 86_399_999
-            }
+            dt(2089, 12, 31, 86_399_999)
         );
+        assert_eq!(class("DT#1994-3-15-1:10:3"), LiteralClass::DateAndTime);
         assert_eq!(ty("DT#1994-3-15-1:10:3"), "DATE_AND_TIME");
-        let range =
-            "is out of range for date and time (1990-1-1-0:0:0.0 to 2089-12-31-23:59:59.999)";
-        assert_eq!(
-            range_msg("DT#2090-1-1-0:0:0"),
-            format!("DT#2090-1-1-0:0:0 {range}")
+        let range = "1990-1-1-0:0:0.0 to 2089-12-31-23:59:59.999";
+        oor("DT#2090-1-1-0:0:0", "date and time", range);
+        oor("DT#1989-12-31-23:59:59", "date and time", range);
+        oor("DT#1994-3-15-24:0:0", "date and time", range);
+        not_a_date("DT#1994-2-29-1:0:0");
+        bad("DT#", "date and time", "empty body");
+        let malformed =
+            "DT#1994-3-15 DT#1994-3-15:1:10:3.3 DT#1994-3-15-1:10 DT#1994-3-15-1:10:3-1";
+        for t in malformed.split_whitespace() {
+            bad(t, "date and time", "expected 'yyyy-m-d-h:m:s[.fff]'");
+        }
+        bad(
+            "DT#1994-3-15-1:10:3.1234",
+            "date and time",
+            "at most 3 digits after '.'",
         );
-        assert_eq!(
-            range_msg("DT#1989-12-31-23:59:59"),
-            format!("DT#1989-12-31-23:59:59 {range}")
-        );
-        assert_eq!(
-            range_msg("DT#1994-3-15-24:0:0"),
-            format!("DT#1994-3-15-24:0:0 {range}")
-        );
-        assert_eq!(
-            range_msg("DT#1994-2-29-1:0:0"),
-            "DT#1994-2-29-1:0:0 is not a valid date"
-        );
-        let m = |t: &str, reason: &str| {
-            assert_eq!(
-                malformed_msg(t),
-                format!("invalid date and time constant '{t}': {reason}")
-            );
-        };
-        m("DT#", "empty body");
-        m("DT#1994-3-15", "expected 'yyyy-m-d-h:m:s[.fff]'");
-        m("DT#1994-3-15:1:10:3.3", "expected 'yyyy-m-d-h:m:s[.fff]'");
-        m("DT#1994-3-15-1:10", "expected 'yyyy-m-d-h:m:s[.fff]'");
-        m("DT#1994-3-15-1:10:3-1", "expected 'yyyy-m-d-h:m:s[.fff]'");
-        m("DT#1994-3-15-1:10:3.1234", "at most 3 digits after '.'");
     }
 
     #[test]
-    fn character_and_string() {
+    fn character() {
         assert_eq!(value("'A'"), LiteralValue::Char('A'));
         assert_eq!(class("'A'"), LiteralClass::Character);
         assert_eq!(ty("'E'"), "CHAR");
@@ -2195,46 +1820,37 @@ mod tests {
         assert_eq!(class("''''"), LiteralClass::Character);
         assert_eq!(value("'ä'"), LiteralValue::Char('ä'));
         assert_eq!(value("'\u{FF}'"), LiteralValue::Char('\u{FF}'));
+        oor("'€'", "character", "U+0000 to U+00FF");
+        oor("'\u{100}'", "character", "U+0000 to U+00FF");
+    }
+
+    #[test]
+    fn string() {
         assert_eq!(value("''"), LiteralValue::Str(String::new()));
         assert_eq!(class("''"), LiteralClass::String);
         assert_eq!(value("'AB'"), LiteralValue::Str("AB".to_owned()));
         assert_eq!(value("'it''s'"), LiteralValue::Str("it's".to_owned()));
         assert_eq!(value("''''''"), LiteralValue::Str("''".to_owned()));
         assert_eq!(ty("'AB'"), "STRING");
-        let max = format!("'{}'", "x".repeat(254));
-        assert_eq!(class(&max), LiteralClass::String);
-        let too_long = format!("'{}'", "x".repeat(255));
         assert_eq!(
-            range_msg(&too_long),
-            format!("{too_long} is out of range for string (0 to 254 characters)")
+            class(&format!("'{}'", "x".repeat(254))),
+            LiteralClass::String
         );
         // `''` counts as one character.
-        let quotes = format!("'{}'", "''".repeat(254));
-        assert_eq!(class(&quotes), LiteralClass::String);
         assert_eq!(
-            range_msg("'€'"),
-            "'€' is out of range for character (U+0000 to U+00FF)"
+            class(&format!("'{}'", "''".repeat(254))),
+            LiteralClass::String
         );
-        assert_eq!(
-            range_msg("'a€'"),
-            "'a€' is out of range for string (U+0000 to U+00FF)"
+        oor(
+            &format!("'{}'", "x".repeat(255)),
+            "string",
+            "0 to 254 characters",
         );
-        assert_eq!(
-            malformed_msg("'"),
-            "invalid string constant ''': missing closing quote"
-        );
-        assert_eq!(
-            malformed_msg("'abc"),
-            "invalid string constant ''abc': missing closing quote"
-        );
-        assert_eq!(
-            malformed_msg("'''"),
-            "invalid string constant ''''': missing closing quote"
-        );
-        assert_eq!(
-            malformed_msg("'a'b'"),
-            "invalid string constant ''a'b'': unexpected text after the closing quote"
-        );
+        oor("'a€'", "string", "U+0000 to U+00FF");
+        bad("'", "string", "missing closing quote");
+        bad("'abc", "string", "missing closing quote");
+        bad("'''", "string", "missing closing quote");
+        bad("'a'b'", "string", "unexpected text after the closing quote");
     }
 
     #[test]
@@ -2260,52 +1876,31 @@ mod tests {
         assert_eq!(value("P#DIX5.0"), p(None, Some("DIX"), 5, 0));
         assert_eq!(value("P#DB10.DBX5.0"), p(Some(10), Some("DBX"), 5, 0));
         assert_eq!(value("p#db10.dbx5.0"), p(Some(10), Some("DBX"), 5, 0));
-        // The bit number is checked in analysis (HG4009).
+        // Bit and byte numbers are checked in analysis (HG4009, HG4010).
         assert_eq!(value("P#M50.8"), p(None, Some("M"), 50, 8));
+        assert_eq!(value("P#M99999.0"), p(None, Some("M"), 99_999, 0));
         assert_eq!(class("P#M50.0"), LiteralClass::Pointer);
         assert_eq!(ty("P#0.0"), "POINTER");
-        let reason = "expected a bit address or 'byte.bit' after 'P#'";
-        for t in [
-            "P#M50",
-            "P#MW10",
-            "P#MW10.0",
-            "P#PE1.0",
-            "P#X1.0",
-            "P#DB10.DBW4",
-            "P#DB10.DBX5",
-            "P#DB10",
-            "P#DB.DBX1.0",
-            "P#M 50.0",
-            "P#M5_0.0",
-            "P#M50.0.1",
-            "P#.0",
-            "P#1.",
-            "P#T5",
-            "P#M-1.0",
-        ] {
-            assert_eq!(
-                malformed_msg(t),
-                format!("invalid pointer constant '{t}': {reason}")
+        bad("P#", "pointer", "empty body");
+        let not_addresses = "P#M50 P#MW10 P#MW10.0 P#PE1.0 P#X1.0 P#DB10.DBW4 P#DB10.DBX5 P#DB10 \
+                             P#DB.DBX1.0 P#M5_0.0 P#M50.0.1 P#.0 P#1. P#T5 P#M-1.0";
+        for t in not_addresses.split_whitespace().chain(["P#M 50.0"]) {
+            bad(
+                t,
+                "pointer",
+                "expected a bit address or 'byte.bit' after 'P#'",
             );
         }
-        assert_eq!(
-            malformed_msg("P#"),
-            "invalid pointer constant 'P#': empty body"
-        );
     }
 
     #[test]
     fn acceptance() {
-        let lit = |t: &str| match check_literal(t) {
-            Ok(l) => l,
-            Err(e) => panic!("{t}: {}", e.message),
-        };
+        use Acceptance::{Accepted, Mismatch};
         let acc = |ty: &str, t: &str| accepts(ty, &lit(t));
         let range = |min: &str, max: &str| Acceptance::OutOfRange {
             min: min.to_owned(),
             max: max.to_owned(),
         };
-        use Acceptance::{Accepted, Mismatch};
         assert_eq!(acc("BOOL", "TRUE"), Accepted);
         assert_eq!(acc("BOOL", "1"), Mismatch);
         assert_eq!(acc("BYTE", "B#16#FF"), Accepted);
@@ -2357,85 +1952,33 @@ mod tests {
 
     #[test]
     fn chart_adaptation() {
-        let lit = |t: &str| match check_literal(t) {
-            Ok(l) => l,
-            Err(e) => panic!("{t}: {}", e.message),
-        };
-        assert_eq!(chart_literal_type(&lit("5"), Some("BYTE")), "BYTE");
-        assert_eq!(chart_literal_type(&lit("5"), Some("word")), "WORD");
-        assert_eq!(chart_literal_type(&lit("5"), Some("REAL")), "REAL");
-        assert_eq!(chart_literal_type(&lit("5"), Some("DINT")), "DINT");
-        assert_eq!(chart_literal_type(&lit("300"), Some("BYTE")), "INT");
-        assert_eq!(chart_literal_type(&lit("40000"), Some("INT")), "DINT");
-        assert_eq!(chart_literal_type(&lit("5"), Some("TIME")), "INT");
-        assert_eq!(chart_literal_type(&lit("5"), None), "DINT");
-        assert_eq!(chart_literal_type(&lit("1.5"), Some("INT")), "REAL");
-        assert_eq!(chart_literal_type(&lit("W#16#1"), Some("DWORD")), "WORD");
-        assert_eq!(chart_literal_type(&lit("T#1S"), None), "TIME");
+        let adapt = |t: &str, other: Option<&str>| chart_literal_type(&lit(t), other);
+        assert_eq!(adapt("5", Some("BYTE")), "BYTE");
+        assert_eq!(adapt("5", Some("word")), "WORD");
+        assert_eq!(adapt("5", Some("REAL")), "REAL");
+        assert_eq!(adapt("5", Some("DINT")), "DINT");
+        assert_eq!(adapt("300", Some("BYTE")), "INT");
+        assert_eq!(adapt("40000", Some("INT")), "DINT");
+        assert_eq!(adapt("5", Some("TIME")), "INT");
+        assert_eq!(adapt("5", None), "DINT");
+        assert_eq!(adapt("1.5", Some("INT")), "REAL");
+        assert_eq!(adapt("W#16#1", Some("DWORD")), "WORD");
+        assert_eq!(adapt("T#1S", None), "TIME");
     }
 
     #[test]
     fn odd_inputs_never_panic() {
-        for text in [
-            "",
-            "#",
-            "##",
-            "B#",
-            "T#",
-            "B#(",
-            "B#)",
-            "2#",
-            "-",
-            "''",
-            "'",
-            "ä",
-            "é#",
-            "#ä",
-            "B#16#ä",
-            "T#1ä",
-            "T#ä",
-            "D#ä-1-1",
-            "TOD#ä",
-            "DT#ä",
-            "P#ä",
-            "P#Mä.0",
-            "B#(ä,1)",
-            "C#ä",
-            "L#-ä",
-            "'ä",
-            "-ä",
-            "1ä",
-            "1.ä",
-            "1eä",
-            "S5T#_",
-            "T#_",
-            "T#-_",
-            "T#1_",
-            "T#1._5S",
-            "DT#---",
-            "DT#1-1-1-",
-            "TOD#::",
-            "TOD#1:1:1.",
-            "B#(,)",
-            "B#(,,,)",
-            "P#DB",
-            "P#DB1",
-            "P#DB1.",
-            "P#DB1.DBX",
-            "P#DB1.DBX.",
-            "2#_",
-            "W#16#_",
-            "\u{FEFF}",
-            "\n",
-            "'\n'",
-            "TRUE#",
-            "S5T#1.",
-            "T#1.5",
-            "T#9999999999999999999999999999999999999999999.99999999D",
-            "B#16#FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF",
-            "D#99999999999999999999999999999999999999999999-99999999999999999999-1",
-            "TOD#99999999999999999999999999999999999999999:1:1.999",
-        ] {
+        let odd = "# ## B# T# B#( B#) 2# - '' ' ä é# #ä B#16#ä T#1ä T#ä D#ä-1-1 TOD#ä DT#ä P#ä P#Mä.0 \
+                   B#(ä,1) C#ä L#-ä 'ä -ä 1ä 1.ä 1eä S5T#_ T#_ T#-_ T#1_ T#1._5S DT#--- DT#1-1-1- \
+                   TOD#:: TOD#1:1:1. B#(,) B#(,,,) P#DB P#DB1 P#DB1. P#DB1.DBX P#DB1.DBX. 2#_ \
+                   W#16#_ TRUE# S5T#1. T#1.5 T#99999999999999999999999999999999999999.9999999D \
+                   B#16#FFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFFF \
+                   D#99999999999999999999999999999999999999999999-99999999999999999999-1 \
+                   TOD#99999999999999999999999999999999999999999:1:1.999";
+        let special = [
+            "", " ", "\u{FEFF}", "\n", "'\n'", "'a\u{0}'", "B#( )", "P#M 1.0",
+        ];
+        for text in odd.split_whitespace().chain(special) {
             let _ = check_literal(text);
         }
     }

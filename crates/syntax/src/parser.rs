@@ -124,7 +124,9 @@ impl<'t> Parser<'t> {
 
     /// Kind of the `n`th significant token from the current position (`EOF` past the end).
     pub(crate) fn nth(&self, n: usize) -> SyntaxKind {
-        self.significant.get(self.pos + n).map_or(EOF, |&i| self.tokens[i].kind)
+        self.significant
+            .get(self.pos + n)
+            .map_or(EOF, |&i| self.tokens[i].kind)
     }
 
     pub(crate) fn current(&self) -> SyntaxKind {
@@ -132,7 +134,9 @@ impl<'t> Parser<'t> {
     }
 
     pub(crate) fn nth_text(&self, n: usize) -> &'t str {
-        self.significant.get(self.pos + n).map_or("", |&i| self.tokens[i].text)
+        self.significant
+            .get(self.pos + n)
+            .map_or("", |&i| self.tokens[i].text)
     }
 
     pub(crate) fn at(&self, kind: SyntaxKind) -> bool {
@@ -159,7 +163,10 @@ impl<'t> Parser<'t> {
 
     /// Is there a line break before the `n`th token? (End of file counts as a new line.)
     pub(crate) fn nth_on_new_line(&self, n: usize) -> bool {
-        self.newline_before.get(self.pos + n).copied().unwrap_or(true)
+        self.newline_before
+            .get(self.pos + n)
+            .copied()
+            .unwrap_or(true)
     }
 
     /// Range of the `n`th significant token, or the empty range at the end of the input.
@@ -177,14 +184,22 @@ impl<'t> Parser<'t> {
 
     /// Describes the current token for messages: `'text'` or `end of file`.
     pub(crate) fn found(&self) -> String {
-        if self.at_eof() { "end of file".to_owned() } else { format!("'{}'", self.nth_text(0)) }
+        if self.at_eof() {
+            "end of file".to_owned()
+        } else {
+            format!("'{}'", self.nth_text(0))
+        }
     }
 
     // ------------------------------------------------------------------ tree building
 
     /// Adds the pending trivia (and unlexable characters) before the current token.
     fn flush_trivia(&mut self) {
-        let upto = self.significant.get(self.pos).copied().unwrap_or(self.tokens.len());
+        let upto = self
+            .significant
+            .get(self.pos)
+            .copied()
+            .unwrap_or(self.tokens.len());
         while self.emitted < upto {
             let token = self.tokens[self.emitted];
             self.builder.token(token.kind.into(), token.text);
@@ -273,15 +288,20 @@ impl<'t> Parser<'t> {
     pub(crate) fn error_expected(&mut self, expected: &str) {
         let range = self.nth_range(0);
         let message = format!("expected {expected}, found {}", self.found());
-        self.errors.push(SyntaxError::new(ErrorCode::HG0001, range, message));
+        self.errors
+            .push(SyntaxError::new(ErrorCode::HG0001, range, message));
     }
 
     /// HG0002: the element is complete but its `;` is missing.
     pub(crate) fn error_missing_semi(&mut self, element: &str) {
         let at = TextRange::empty(self.last_end);
         self.errors.push(
-            SyntaxError::new(ErrorCode::HG0002, at, format!("missing ';' after {element}"))
-                .with_fix("Insert ';'", at, ";"),
+            SyntaxError::new(
+                ErrorCode::HG0002,
+                at,
+                format!("missing ';' after {element}"),
+            )
+            .with_fix("Insert ';'", at, ";"),
         );
     }
 
@@ -289,9 +309,13 @@ impl<'t> Parser<'t> {
     pub(crate) fn error_unclosed(&mut self, open: TextRange, construct: &str) {
         let stop = TextRange::empty(self.last_end);
         self.errors.push(
-            SyntaxError::new(ErrorCode::HG0003, open, format!("'<' of {construct} is never closed"))
-                .with_related(stop, "the parser stopped here")
-                .with_fix("Insert '>'", stop, ">"),
+            SyntaxError::new(
+                ErrorCode::HG0003,
+                open,
+                format!("'<' of {construct} is never closed"),
+            )
+            .with_related(stop, "the parser stopped here")
+            .with_fix("Insert '>'", stop, ">"),
         );
     }
 
@@ -488,6 +512,11 @@ impl<'t> Parser<'t> {
     /// `:=` written as two adjacent tokens.
     pub(crate) fn at_assign(&self) -> bool {
         self.at(COLON) && self.nth(1) == EQ && self.nth_joined(1)
+    }
+
+    /// A `:` that is not the start of `:=`.
+    pub(crate) fn at_colon(&self) -> bool {
+        self.at(COLON) && !self.at_assign()
     }
 
     /// `->` written as two adjacent tokens.

@@ -33,7 +33,11 @@ fn render_errors(text: &str, parse: &Parse) -> String {
             e.message
         ));
         for r in &e.related {
-            out.push_str(&format!("    related {}: {}\n", line_col(text, r.range.start()), r.message));
+            out.push_str(&format!(
+                "    related {}: {}\n",
+                line_col(text, r.range.start()),
+                r.message
+            ));
         }
         for f in &e.fixes {
             out.push_str(&format!("    fix: {}\n", f.title));
@@ -47,7 +51,11 @@ fn read(path: &Path) -> String {
 }
 
 fn assert_lossless(text: &str, parse: &Parse) {
-    assert_eq!(parse.syntax_node().to_string(), text, "tree text differs from input");
+    assert_eq!(
+        parse.syntax_node().to_string(),
+        text,
+        "tree text differs from input"
+    );
 }
 
 #[test]
@@ -72,8 +80,16 @@ fn err() {
         let text = read(path);
         let parse = parse(&text);
         assert_lossless(&text, &parse);
-        assert!(!parse.errors().is_empty(), "{} should have diagnostics", path.display());
-        insta::assert_snapshot!(format!("{}\n{}", render_errors(&text, &parse), parse.debug_tree()));
+        assert!(
+            !parse.errors().is_empty(),
+            "{} should have diagnostics",
+            path.display()
+        );
+        insta::assert_snapshot!(format!(
+            "{}\n{}",
+            render_errors(&text, &parse),
+            parse.debug_tree()
+        ));
     });
 }
 
@@ -121,8 +137,14 @@ fn every_code_has_fixtures() {
             .filter_map(|e| e.ok())
             .map(|e| e.file_name().to_string_lossy().into_owned())
             .collect();
-        assert!(names.iter().any(|n| n.starts_with("fail")), "{code} has no failing fixture");
-        assert!(names.iter().any(|n| n.starts_with("pass")), "{code} has no passing fixture");
+        assert!(
+            names.iter().any(|n| n.starts_with("fail")),
+            "{code} has no failing fixture"
+        );
+        assert!(
+            names.iter().any(|n| n.starts_with("pass")),
+            "{code} has no passing fixture"
+        );
     }
 }
 

@@ -122,7 +122,15 @@ fn sequencer(p: &mut Parser<'_>) {
 fn part(p: &mut Parser<'_>, kind: SyntaxKind, construct: &str, conditions: bool) {
     p.start(kind);
     p.bump_keyword();
-    body_of(p, construct, if conditions { BodyKind::Conditions } else { BodyKind::Statements });
+    body_of(
+        p,
+        construct,
+        if conditions {
+            BodyKind::Conditions
+        } else {
+            BodyKind::Statements
+        },
+    );
     p.finish_node();
 }
 
@@ -206,7 +214,11 @@ fn seq_element(p: &mut Parser<'_>) -> bool {
         let is_parallel = p.at_word("parallel");
         p.start(if is_parallel { PARALLEL } else { ALT });
         p.bump_keyword();
-        body_of(p, if is_parallel { "parallel" } else { "alt" }, BodyKind::Branches);
+        body_of(
+            p,
+            if is_parallel { "parallel" } else { "alt" },
+            BodyKind::Branches,
+        );
         p.finish_node();
     } else {
         return false;
@@ -247,7 +259,10 @@ fn named_element(p: &mut Parser<'_>, kind: SyntaxKind, what: &str, body: BodyKin
 /// `init < .. >`, `run < .. >`, `term < .. >`, `N Valve;`, `L Pump, T#5S;`, `min T#1S;`,
 /// `max T#10M;`, `confirm;`.
 fn step_item(p: &mut Parser<'_>) {
-    let phase = ["init", "run", "term"].iter().find(|w| p.at_word(w)).copied();
+    let phase = ["init", "run", "term"]
+        .iter()
+        .find(|w| p.at_word(w))
+        .copied();
     if let Some(phase) = phase.filter(|_| p.nth(1) == L_ANGLE) {
         part(p, STEP_PHASE, phase, false);
     } else if p.at_word("min") || p.at_word("max") {

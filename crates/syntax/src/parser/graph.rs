@@ -150,7 +150,10 @@ fn trans(p: &mut Parser<'_>) {
                 p.finish_node();
                 return;
             }
-        } else if ["auto", "manual", "waits", "fault"].iter().any(|w| p.at_word(w)) {
+        } else if ["auto", "manual", "waits", "fault"]
+            .iter()
+            .any(|w| p.at_word(w))
+        {
             p.start(ATTRIBUTE);
             p.bump_keyword();
             p.finish_node();

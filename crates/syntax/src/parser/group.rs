@@ -75,7 +75,7 @@ fn instance(p: &mut Parser<'_>) {
     let header_ok = if !p.name() {
         p.error_expected("an instance name");
         p.recover_header()
-    } else if !(p.at(COLON) && !p.at_assign()) {
+    } else if !p.at_colon() {
         p.error_expected("':'");
         p.recover_header()
     } else {
@@ -117,10 +117,7 @@ fn actual(p: &mut Parser<'_>) {
     }
     p.bump_node(ASSIGN_OP, 2);
     let errors = p.error_count();
-    let is_message = p.at(IDENT)
-        && p.nth(1) == DOT
-        && p.nth(2) == IDENT
-        && !stl::at_db_address(p);
+    let is_message = p.at(IDENT) && p.nth(1) == DOT && p.nth(2) == IDENT && !stl::at_db_address(p);
     if is_message {
         p.start(MESSAGE_TARGET);
         p.bump_node(NAME_REF, 1);

@@ -20,11 +20,16 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
             let range = p.nth_range(0);
             p.bump_node(ERROR, 1);
             p.push_error(
-                SyntaxError::new(ErrorCode::HG0008, range, "'>' without an open block")
-                    .with_fix("Delete the '>'", range, ""),
+                SyntaxError::new(ErrorCode::HG0008, range, "'>' without an open block").with_fix(
+                    "Delete the '>'",
+                    range,
+                    "",
+                ),
             );
         } else if !item(p) {
-            p.error_expected("an item ('graph', 'group', 'chart', 'symbols', 'block' or 'mnemonic')");
+            p.error_expected(
+                "an item ('graph', 'group', 'chart', 'symbols', 'block' or 'mnemonic')",
+            );
             recover_item(p);
         }
         if let Some(set) = set {
@@ -38,13 +43,18 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
                                 range,
                                 "'mnemonic' must be the first item of the file",
                             )
-                            .with_fix("Move it to the top of the file", range, ""),
+                            .with_fix(
+                                "Move it to the top of the file",
+                                range,
+                                "",
+                            ),
                         );
                     }
                     first_mnemonic = Some((range, set));
                 }
                 Some((first, set)) => {
-                    let message = format!("second 'mnemonic' directive; the first one ({set}) applies");
+                    let message =
+                        format!("second 'mnemonic' directive; the first one ({set}) applies");
                     p.push_error(
                         SyntaxError::new(ErrorCode::HG0011, range, message)
                             .with_related(*first, "the first 'mnemonic' directive")
@@ -145,7 +155,7 @@ fn symbol(p: &mut Parser<'_>) {
     let name = p.nth_text(0).to_owned();
     p.bump_node(NAME, 1);
     let element = format!("symbol {name}");
-    if p.at(COLON) && !p.at_assign() {
+    if p.at_colon() {
         p.bump();
         if stl::address_in_table(p) {
             if p.at(IDENT) && !p.nth_on_new_line(0) && !type_ref(p) {
@@ -211,7 +221,7 @@ fn var_decl(p: &mut Parser<'_>) {
     p.start(VAR_DECL);
     let element = format!("the declaration of {}", p.nth_text(0));
     p.bump_node(NAME, 1);
-    if !(p.at(COLON) && !p.at_assign()) {
+    if !p.at_colon() {
         p.error_and_recover("':'");
         p.finish_node();
         return;

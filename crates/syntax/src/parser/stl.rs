@@ -25,7 +25,9 @@ fn is_area(word: &str) -> bool {
 
 /// `word` = area letters followed by digits (`E1`, `MW10`, `DBX5`)?
 fn is_area_with_number(word: &str) -> bool {
-    let split = word.find(|c: char| c.is_ascii_digit()).unwrap_or(word.len());
+    let split = word
+        .find(|c: char| c.is_ascii_digit())
+        .unwrap_or(word.len());
     let (area, digits) = word.split_at(split);
     !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) && is_area(area)
 }
@@ -40,7 +42,9 @@ fn is_db_name(word: &str) -> bool {
 fn is_db_access(word: &str) -> bool {
     word.len() >= 3
         && word.is_char_boundary(3)
-        && ["DBX", "DBB", "DBW", "DBD"].iter().any(|a| a.eq_ignore_ascii_case(&word[..3]))
+        && ["DBX", "DBB", "DBW", "DBD"]
+            .iter()
+            .any(|a| a.eq_ignore_ascii_case(&word[..3]))
         && word[3..].bytes().all(|b| b.is_ascii_digit())
 }
 
@@ -101,19 +105,13 @@ fn opcode_len(p: &Parser<'_>) -> usize {
     match p.current() {
         IDENT => {
             let word = p.nth_text(0);
-            if BRACKET_OPS.iter().any(|op| op.eq_ignore_ascii_case(word))
+            let bracket = BRACKET_OPS.iter().any(|op| op.eq_ignore_ascii_case(word))
                 && p.nth(1) == L_PAREN
-                && !p.nth_on_new_line(1)
-            {
-                2
-            } else if word.eq_ignore_ascii_case("RND")
+                && !p.nth_on_new_line(1);
+            let rounding = word.eq_ignore_ascii_case("RND")
                 && matches!(p.nth(1), PLUS | MINUS)
-                && p.nth_joined(1)
-            {
-                2
-            } else {
-                1
-            }
+                && p.nth_joined(1);
+            if bracket || rounding { 2 } else { 1 }
         }
         R_PAREN | EQ => 1,
         PLUS if nth_is_cmp_type(p, 1) => 2,
@@ -340,12 +338,20 @@ fn address_len(p: &Parser<'_>) -> usize {
     }
     let word = p.nth_text(0);
     // DB10.DBX 5.1, DB10.DBW4, DB10.DBX5.1
-    if is_db_name(word) && p.nth(1) == DOT && p.nth_joined(1) && p.nth(2) == IDENT && p.nth_joined(2)
+    if is_db_name(word)
+        && p.nth(1) == DOT
+        && p.nth_joined(1)
+        && p.nth(2) == IDENT
+        && p.nth_joined(2)
     {
         let access = p.nth_text(2);
         if is_db_access(access) {
             if access.len() == 3 {
-                return if p.nth(3) == NUMBER && !p.nth_on_new_line(3) { 4 } else { 3 };
+                return if p.nth(3) == NUMBER && !p.nth_on_new_line(3) {
+                    4
+                } else {
+                    3
+                };
             }
             if p.nth(3) == DOT && p.nth_joined(3) && p.nth(4) == NUMBER && p.nth_joined(4) {
                 return 5;
