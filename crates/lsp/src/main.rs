@@ -1,1 +1,11 @@
-fn main() {}
+//! `higraph-lsp`: the HiGraph language server and command-line checker.
+//!
+//! `main` only dispatches; the subcommands live in [`cli`].
+
+mod cli;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    cli::run()
+}

@@ -1,0 +1,162 @@
+//! The command line (`tooling.md` §2): argument definitions and dispatch to one module per
+//! subcommand. Every subcommand returns an exit status; a [`CliError`] is a usage error or
+//! unreadable input and ends with status 2 and a message on stderr, never a panic.
+
+mod check;
+mod output;
+mod parse;
+mod workspace;
+
+use std::fmt;
+use std::io::{self, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
+
+/// Exit status 1: error-level diagnostics were found (`diagnostics.md` §4.3).
+pub(crate) const EXIT_FAILURE: u8 = 1;
+/// Exit status 2: the command could not run.
+pub(crate) const EXIT_USAGE: u8 = 2;
+
+/// Language server and checker for Siemens S7 HiGraph state graphs and SFC charts.
+#[derive(Debug, Parser)]
+#[command(name = "higraph-lsp", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Check a workspace and report diagnostics.
+    Check(CheckArgs),
+    /// Print the syntax tree of a file (for debugging the parser).
+    Parse(ParseArgs),
+}
+
+/// Arguments of `higraph-lsp check`.
+#[derive(Debug, Args)]
+pub(crate) struct CheckArgs {
+    /// Files or folders to report on (default: the current folder). The workspace is the
+    /// nearest folder upwards from the first PATH that holds `higraph.toml`, else the first
+    /// PATH's folder.
+    #[arg(value_name = "PATH")]
+    pub paths: Vec<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    pub format: Format,
+    /// Make warnings fail the check too (exit status 1).
+    #[arg(long, value_enum, value_name = "LINT")]
+    pub deny: Vec<Deny>,
+    /// Configuration file to use instead of the workspace's `higraph.toml`. It must be
+    /// readable; its settings are not applied yet.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// When to colour the human output.
+    #[arg(long, value_enum, value_name = "WHEN", default_value_t = ColorChoice::Auto)]
+    pub color: ColorChoice,
+}
+
+/// Arguments of `higraph-lsp parse`.
+#[derive(Debug, Args)]
+pub(crate) struct ParseArgs {
+    /// The file to parse.
+    pub file: PathBuf,
+}
+
+/// The output formats of `check` (`tooling.md` §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum Format {
+    /// rustc-style blocks with the source line underlined (the default).
+    Human,
+    /// `path:line:col: severity[CODE]: message`, one line per diagnostic.
+    Short,
+    /// one JSON object with positions in UTF-16 units (diagnostics.md §4.1).
+    Json,
+    /// GitHub Actions workflow commands (`::error file=…`).
+    Github,
+}
+
+/// What `--deny` can turn into failures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum Deny {
+    /// warnings make the exit status 1, like errors.
+    Warnings,
+}
+
+/// When to colour output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ColorChoice {
+    /// colour when standard output is a terminal and `NO_COLOR` is not set.
+    Auto,
+    /// always colour.
+    Always,
+    /// never colour.
+    Never,
+}
+
+/// A problem that stops a command: bad arguments or unreadable input (exit status 2).
+#[derive(Debug)]
+pub(crate) struct CliError {
+    message: String,
+}
+
+impl CliError {
+    pub(crate) fn new(message: impl Into<String>) -> CliError {
+        CliError {
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+/// Parses the command line and runs the command.
+pub fn run() -> ExitCode {
+    // clap prints its own usage errors and exits with status 2; `--help` and `--version`
+    // exit with 0.
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Check(args)) => check::run(&args),
+        Some(Command::Parse(args)) => parse::run(&args),
+        None => {
+            // The language server will run here; until then, show what there is.
+            let _ = Cli::command().print_help();
+            Ok(ExitCode::SUCCESS)
+        }
+    };
+    match result {
+        Ok(status) => status,
+        Err(error) => {
+            let _ = writeln!(io::stderr(), "error: {error}");
+            ExitCode::from(EXIT_USAGE)
+        }
+    }
+}
+
+/// Writes to standard output. A closed pipe (`higraph-lsp check | head`) is not an error
+/// worth a message; anything else is reported.
+pub(crate) fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
+    let mut stdout = io::stdout().lock();
+    match stdout.write_all(bytes).and_then(|()| stdout.flush()) {
+        Ok(()) => Ok(()),
+        Err(error) if error.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        Err(error) => Err(CliError::new(format!(
+            "cannot write to standard output: {error}"
+        ))),
+    }
+}
+
+/// An I/O error's text without the trailing " (os error N)".
+pub(crate) fn io_reason(error: &io::Error) -> String {
+    let text = error.to_string();
+    match text.rfind(" (os error ") {
+        Some(at) if text.ends_with(')') => text[..at].to_string(),
+        _ => text,
+    }
+}

@@ -1,0 +1,252 @@
+//! Finding the workspace of a `check` run and the files in it (`tooling.md` §2).
+//!
+//! * The root is the nearest folder upwards from the first PATH (a file PATH: its folder)
+//!   that holds `higraph.toml`, else that folder itself.
+//! * The workspace's files are the `*.higraph` entries below the root, skipping hidden
+//!   entries (names starting with `.`), `node_modules` folders and the root's `target`
+//!   folder. Symbolic links to files are followed, links to folders are not (no cycles). A
+//!   folder named `*.higraph` counts as a file, which then cannot be read (HG6103).
+//! * Files named explicitly on the command line are always part of the workspace, whatever
+//!   their name; so are the `*.higraph` files under a PATH folder that the walk from the root
+//!   skips or that lies outside the root.
+//! * A file is *selected* (reported on) when it is under one of the PATHs.
+//! * Files are named by their workspace-relative path with `/` separators; a file outside the
+//!   root keeps its absolute path. They are sorted in workspace order (code-point order of
+//!   that name).
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::io;
+use std::path::{Component, Path, PathBuf};
+
+use super::{CliError, io_reason};
+
+/// The name of the workspace configuration file.
+pub(crate) const CONFIG_FILE: &str = "higraph.toml";
+/// The extension of HiGraph source files.
+const EXTENSION: &str = "higraph";
+
+/// A workspace: its root and its files in workspace order.
+#[derive(Debug)]
+pub(crate) struct Workspace {
+    /// The root folder (absolute, canonical); `higraph.toml` is read from here.
+    #[allow(
+        dead_code,
+        reason = "read by the configuration support that comes next"
+    )]
+    pub root: PathBuf,
+    /// The files, sorted by `name`.
+    pub files: Vec<WorkspaceFile>,
+}
+
+/// One source file of the workspace.
+#[derive(Debug)]
+pub(crate) struct WorkspaceFile {
+    /// Where to read it.
+    pub path: PathBuf,
+    /// The workspace-relative `/` path (absolute for a file outside the root).
+    pub name: String,
+    /// Whether it is under one of the PATHs, so its diagnostics are reported.
+    pub selected: bool,
+}
+
+/// A PATH argument after checking that it exists.
+struct Target {
+    /// Canonical absolute path.
+    path: PathBuf,
+    is_dir: bool,
+}
+
+/// Finds the workspace for the PATH arguments (default: the current folder) and lists its
+/// files. Fails when a PATH does not exist or the root cannot be read.
+pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), CliError> {
+    let default = [PathBuf::from(".")];
+    let paths = if paths.is_empty() {
+        &default[..]
+    } else {
+        paths
+    };
+    let targets = paths
+        .iter()
+        .map(|path| resolve(path))
+        .collect::<Result<Vec<_>, _>>()?;
+
+    let first = &targets[0];
+    let start = if first.is_dir {
+        first.path.clone()
+    } else {
+        first
+            .path
+            .parent()
+            .map_or_else(|| first.path.clone(), Path::to_path_buf)
+    };
+    let root = find_root(&start);
+
+    let mut walk = Walk {
+        files: BTreeSet::new(),
+        warnings: Vec::new(),
+    };
+    fs::read_dir(&root).map_err(|error| {
+        CliError::new(format!(
+            "cannot read the workspace folder '{}': {}",
+            root.display(),
+            io_reason(&error)
+        ))
+    })?;
+    walk.folder(&root, &root);
+    for target in &targets {
+        if !target.is_dir {
+            walk.files.insert(target.path.clone());
+        } else if !covered_by_root_walk(&root, &target.path) {
+            walk.folder(&target.path, &root);
+        }
+    }
+
+    let mut files: Vec<WorkspaceFile> = walk
+        .files
+        .into_iter()
+        .map(|path| {
+            let selected = targets.iter().any(|target| path.starts_with(&target.path));
+            WorkspaceFile {
+                name: display_name(&root, &path),
+                path,
+                selected,
+            }
+        })
+        .collect();
+    files.sort_by(|a, b| a.name.cmp(&b.name));
+    Ok((Workspace { root, files }, walk.warnings))
+}
+
+/// Checks that a PATH exists and makes it absolute.
+fn resolve(path: &Path) -> Result<Target, CliError> {
+    let shown = path.display();
+    let metadata = fs::metadata(path).map_err(|error| match error.kind() {
+        io::ErrorKind::NotFound => CliError::new(format!("path '{shown}' does not exist")),
+        _ => CliError::new(format!("cannot access '{shown}': {}", io_reason(&error))),
+    })?;
+    let canonical = fs::canonicalize(path).map_err(|error| {
+        CliError::new(format!("cannot access '{shown}': {}", io_reason(&error)))
+    })?;
+    Ok(Target {
+        path: canonical,
+        is_dir: metadata.is_dir(),
+    })
+}
+
+/// The nearest folder upwards from `start` holding `higraph.toml`, else `start`.
+fn find_root(start: &Path) -> PathBuf {
+    start
+        .ancestors()
+        .find(|folder| folder.join(CONFIG_FILE).is_file())
+        .unwrap_or(start)
+        .to_path_buf()
+}
+
+/// Whether the walk from the root already visited every file under `folder`.
+fn covered_by_root_walk(root: &Path, folder: &Path) -> bool {
+    let Ok(relative) = folder.strip_prefix(root) else {
+        return false;
+    };
+    relative
+        .components()
+        .enumerate()
+        .all(|(depth, component)| match component {
+            Component::Normal(name) => !is_skipped(&name.to_string_lossy(), depth == 0),
+            _ => false,
+        })
+}
+
+/// Whether the walk skips an entry of this name. `at_root`: the entry is directly in the
+/// folder the walk started from.
+fn is_skipped(name: &str, at_root: bool) -> bool {
+    name.starts_with('.') || name == "node_modules" || (at_root && name == "target")
+}
+
+struct Walk {
+    /// Absolute paths found so far.
+    files: BTreeSet<PathBuf>,
+    /// Folders below the root that could not be read.
+    warnings: Vec<String>,
+}
+
+impl Walk {
+    fn folder(&mut self, folder: &Path, root: &Path) {
+        let entries = match fs::read_dir(folder) {
+            Ok(entries) => entries,
+            Err(error) => {
+                self.warnings.push(format!(
+                    "cannot read folder '{}': {}",
+                    display_name(root, folder),
+                    io_reason(&error)
+                ));
+                return;
+            }
+        };
+        // `target` is skipped only directly in the workspace root.
+        let at_root = folder == root;
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            if is_skipped(&name, at_root) {
+                continue;
+            }
+            let path = entry.path();
+            let is_source = Path::new(&*name)
+                .extension()
+                .is_some_and(|ext| ext == EXTENSION);
+            let Ok(file_type) = entry.file_type() else {
+                if is_source {
+                    self.files.insert(path);
+                }
+                continue;
+            };
+            if is_source {
+                // A folder or broken link named `*.higraph` is a file that cannot be read.
+                self.files.insert(path);
+            } else if file_type.is_dir() {
+                self.folder(&path, root);
+            }
+        }
+    }
+}
+
+/// The name of a file in output: workspace-relative with `/`, or absolute outside the root.
+pub(crate) fn display_name(root: &Path, path: &Path) -> String {
+    match path.strip_prefix(root) {
+        Ok(relative) if relative.as_os_str().is_empty() => ".".to_string(),
+        Ok(relative) => relative
+            .components()
+            .map(|component| component.as_os_str().to_string_lossy())
+            .collect::<Vec<_>>()
+            .join("/"),
+        Err(_) => path.to_string_lossy().replace('\\', "/"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skipped_names() {
+        assert!(is_skipped(".git", false));
+        assert!(is_skipped("node_modules", false));
+        assert!(is_skipped("target", true));
+        assert!(!is_skipped("target", false));
+        assert!(!is_skipped("graphs", true));
+    }
+
+    #[test]
+    fn display_names_use_slashes() {
+        let root = Path::new("/ws");
+        assert_eq!(
+            display_name(root, Path::new("/ws/a/b.higraph")),
+            "a/b.higraph"
+        );
+        assert_eq!(
+            display_name(root, Path::new("/other/b.higraph")),
+            "/other/b.higraph"
+        );
+    }
+}
