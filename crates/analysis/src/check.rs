@@ -1,100 +1,202 @@
-//! The diagnostics of one file. Today these are the file-level problems (HG6102, HG6103) and
-//! the syntax errors; the salsa database will compute the same per file, adding the semantic
-//! rules over the whole workspace.
+//! The final diagnostics of each file: syntax errors, the rules' diagnostics of its items, and
+//! the workspace-wide diagnostics that land in it — with severities from the configuration,
+//! inline suppressions applied (§1.4b), absolute ranges and output file ids.
+
+use std::collections::HashMap;
 
 use higraph_syntax::{TextRange, TextSize};
 
-use crate::{Code, Diagnostic, FileContents, FileId, Severity};
+use crate::{
+    Code, Diagnostic, DiagnosticTag, FileContents, FileId, Fix, LineIndex, RelatedInfo, Severity,
+    TextEdit,
+    db::{self, File, ItemLoc, Workspace},
+    diag::Diag,
+    registry, sdf, suppress,
+};
 
-/// All diagnostics of the file `file`, in text order.
-///
-/// A file that is not valid UTF-8 or cannot be read gets only its HG6102 or HG6103 diagnostic:
-/// its text is not parsed, so the replacement characters do not cascade into syntax errors.
-pub fn file_diagnostics(file: FileId, contents: &FileContents) -> Vec<Diagnostic> {
-    match contents {
-        FileContents::Text(text) => higraph_syntax::parse(text)
-            .errors()
+/// Every file the diagnostics may refer to, in output order: the `.higraph` files, the loaded
+/// import files, then `higraph.toml`. `FileId(i)` is the `i`th.
+pub fn output_files(db: &dyn salsa::Database, ws: Workspace) -> Vec<File> {
+    let mut files = ws.files(db).clone();
+    files.extend(
+        ws.imports(db)
             .iter()
-            .map(|error| Diagnostic::from_syntax_error(file, error))
-            .collect(),
+            .filter_map(|i| i.file.as_ref().ok().copied()),
+    );
+    files.extend(ws.config_file(db));
+    files
+}
+
+/// The diagnostics of every output file.
+pub fn all_diagnostics(db: &dyn salsa::Database, ws: Workspace) -> Vec<(FileId, Vec<Diagnostic>)> {
+    let files = output_files(db, ws);
+    let ids: HashMap<File, FileId> = files
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| (f, FileId(i as u32)))
+        .collect();
+    files
+        .iter()
+        .enumerate()
+        .map(|(i, &file)| (FileId(i as u32), file_diagnostics(db, ws, file, &ids)))
+        .collect()
+}
+
+/// The diagnostics of one file.
+pub fn file_diagnostics(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    ids: &HashMap<File, FileId>,
+) -> Vec<Diagnostic> {
+    let contents = file.contents(db);
+    let own = ids.get(&file).copied().unwrap_or(FileId(0));
+    match &**contents {
         FileContents::NotUtf8 {
             invalid_offset,
             invalid_len,
             ..
         } => {
-            // HG6102: the range is the first invalid byte sequence; in the decoded text every
-            // invalid byte is one U+FFFD.
             let start = size(*invalid_offset);
             let len = size(invalid_len * char::REPLACEMENT_CHARACTER.len_utf8());
-            vec![Diagnostic::new(
+            return vec![Diagnostic::new(
                 Code::INVALID_UTF8,
                 Severity::Error,
                 TextRange::at(start, len),
                 format!("file is not valid UTF-8 (invalid byte at offset {invalid_offset})"),
-            )]
+            )];
         }
-        FileContents::Unreadable { reason } => vec![Diagnostic::new(
-            Code::UNREADABLE_FILE,
-            Severity::Error,
-            TextRange::empty(TextSize::from(0)),
-            format!("cannot read file: {reason}"),
-        )],
+        FileContents::Unreadable { reason } => {
+            return vec![Diagnostic::new(
+                Code::UNREADABLE_FILE,
+                Severity::Error,
+                TextRange::empty(TextSize::from(0)),
+                format!("cannot read file: {reason}"),
+            )];
+        }
+        FileContents::Text(_) => {}
+    }
+    let config = ws.config(db);
+    let mut diags: Vec<&Diag> = Vec::new();
+    let is_source = ws.files(db).contains(&file);
+    let mut out = Vec::new();
+    let mut config_problems = Vec::new();
+    if is_source {
+        let parse = db::parse(db, file);
+        out.extend(
+            parse
+                .errors()
+                .iter()
+                .map(|e| Diagnostic::from_syntax_error(own, e)),
+        );
+        for index in 0..db::file_summary(db, file).items.len() {
+            diags.extend(db::item_diagnostics(
+                db,
+                ws,
+                ItemLoc::new(db, file, index as u32),
+            ));
+        }
+    }
+    if ws.config_file(db) == Some(file) {
+        for (range, problem) in &config.problems {
+            config_problems.push(Diag::new(
+                "HG6101",
+                crate::diag::Loc::in_file(file, *range),
+                format!("higraph.toml: {problem}"),
+            ));
+        }
+    }
+    diags.extend(config_problems.iter());
+    for table in sdf::imported_tables(db, ws) {
+        diags.extend(table.problems.iter().filter(|d| d.at.file == file));
+    }
+    diags.extend(
+        db::workspace_diagnostics(db, ws)
+            .iter()
+            .filter(|d| d.at.file == file),
+    );
+
+    let text = contents.text();
+    let line_index = LineIndex::new(text);
+    let (allows, unknown_codes) = if is_source {
+        suppress::allows(db::parse(db, file), &line_index)
+    } else {
+        Default::default()
+    };
+    let hg6104: Vec<Diag> = unknown_codes
+        .iter()
+        .map(|u| {
+            Diag::new(
+                "HG6104",
+                crate::diag::Loc::in_file(file, u.range),
+                format!("unknown diagnostic code '{}' in higraph-allow", u.code),
+            )
+        })
+        .collect();
+    diags.extend(hg6104.iter());
+
+    for diag in diags {
+        let code = diag.code.as_str();
+        let Some(severity) = config.severity(code) else {
+            continue;
+        };
+        let range = db::absolute_range(db, &diag.at);
+        if suppress::is_suppressed(&allows, code, line_index.utf16_position(range.start()).line) {
+            continue;
+        }
+        out.push(convert(db, diag, severity, range, ids));
+    }
+    out
+}
+
+fn convert(
+    db: &dyn salsa::Database,
+    diag: &Diag,
+    severity: Severity,
+    range: TextRange,
+    ids: &HashMap<File, FileId>,
+) -> Diagnostic {
+    let file_id = |file: &File| ids.get(file).copied().unwrap_or(FileId(0));
+    let rule = registry::rule_of(diag.code.as_str());
+    debug_assert!(rule.is_some(), "unregistered code {}", diag.code);
+    Diagnostic {
+        code: diag.code,
+        severity,
+        range,
+        message: diag.message.clone(),
+        related: diag
+            .related
+            .iter()
+            .map(|(loc, message)| RelatedInfo {
+                file: file_id(&loc.file),
+                range: db::absolute_range(db, loc),
+                message: message.clone(),
+            })
+            .collect(),
+        fixes: diag
+            .fixes
+            .iter()
+            .map(|fix| Fix {
+                title: fix.title.clone(),
+                edits: fix
+                    .edits
+                    .iter()
+                    .map(|(loc, new_text)| TextEdit {
+                        file: file_id(&loc.file),
+                        range: db::absolute_range(db, loc),
+                        new_text: new_text.clone(),
+                    })
+                    .collect(),
+            })
+            .collect(),
+        tags: if diag.unnecessary {
+            vec![DiagnosticTag::Unnecessary]
+        } else {
+            Vec::new()
+        },
     }
 }
 
 fn size(n: usize) -> TextSize {
     TextSize::from(u32::try_from(n).unwrap_or(u32::MAX))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::LineIndex;
-
-    #[test]
-    fn invalid_utf8_points_at_the_first_bad_byte() {
-        let contents = FileContents::from_bytes(b"// \xF0\x9F\x98\x80\nx \xE4\xE4 y".to_vec());
-        let diagnostics = file_diagnostics(FileId(0), &contents);
-        assert_eq!(diagnostics.len(), 1);
-        let d = &diagnostics[0];
-        assert_eq!(d.code.as_str(), "HG6102");
-        assert_eq!(
-            d.message,
-            "file is not valid UTF-8 (invalid byte at offset 10)"
-        );
-        let index = LineIndex::new(contents.text());
-        assert_eq!(
-            index.utf16_position(d.range.start()),
-            crate::Position::new(1, 2)
-        );
-        assert_eq!(
-            index.utf16_position(d.range.end()),
-            crate::Position::new(1, 3)
-        );
-    }
-
-    #[test]
-    fn unreadable_file_is_zero_width_at_the_start() {
-        let diagnostics = file_diagnostics(
-            FileId(0),
-            &FileContents::unreadable("Is a directory (os error 21)"),
-        );
-        assert_eq!(diagnostics[0].code, Code::UNREADABLE_FILE);
-        assert_eq!(diagnostics[0].range, TextRange::empty(0.into()));
-        assert_eq!(
-            diagnostics[0].message,
-            "cannot read file: Is a directory (os error 21)"
-        );
-    }
-
-    #[test]
-    fn syntax_errors_are_reported() {
-        let diagnostics = file_diagnostics(FileId(0), &FileContents::Text("a $".into()));
-        assert!(
-            diagnostics.iter().any(|d| d.code.as_str() == "HG0009"),
-            "{diagnostics:?}"
-        );
-        assert!(diagnostics.iter().all(|d| d.severity == Severity::Error));
-        assert!(file_diagnostics(FileId(0), &FileContents::Text("// fine\n".into())).is_empty());
-    }
 }

@@ -30,13 +30,18 @@ const EXTENSION: &str = "higraph";
 #[derive(Debug)]
 pub(crate) struct Workspace {
     /// The root folder (absolute, canonical); `higraph.toml` is read from here.
-    #[allow(
-        dead_code,
-        reason = "read by the configuration support that comes next"
-    )]
     pub root: PathBuf,
     /// The files, sorted by `name`.
     pub files: Vec<WorkspaceFile>,
+    /// The PATH arguments (canonical): diagnostics are reported for files under them.
+    pub targets: Vec<PathBuf>,
+}
+
+impl Workspace {
+    /// Is `path` (absolute) under one of the PATHs?
+    pub(crate) fn selects(&self, path: &Path) -> bool {
+        self.targets.iter().any(|target| path.starts_with(target))
+    }
 }
 
 /// One source file of the workspace.
@@ -48,6 +53,8 @@ pub(crate) struct WorkspaceFile {
     pub name: String,
     /// Whether it is under one of the PATHs, so its diagnostics are reported.
     pub selected: bool,
+    /// Named on the command line itself (checked whatever `include`/`exclude` say).
+    pub explicit: bool,
 }
 
 /// A PATH argument after checking that it exists.
@@ -107,15 +114,27 @@ pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), Cl
         .into_iter()
         .map(|path| {
             let selected = targets.iter().any(|target| path.starts_with(&target.path));
+            let explicit = targets
+                .iter()
+                .any(|target| !target.is_dir && target.path == path);
             WorkspaceFile {
                 name: display_name(&root, &path),
                 path,
                 selected,
+                explicit,
             }
         })
         .collect();
     files.sort_by(|a, b| a.name.cmp(&b.name));
-    Ok((Workspace { root, files }, walk.warnings))
+    let targets = targets.into_iter().map(|t| t.path).collect();
+    Ok((
+        Workspace {
+            root,
+            files,
+            targets,
+        },
+        walk.warnings,
+    ))
 }
 
 /// Checks that a PATH exists and makes it absolute.

@@ -64,11 +64,9 @@ impl Sources {
         Sources { files }
     }
 
-    pub(crate) fn iter(&self) -> impl Iterator<Item = (FileId, &SourceFile)> {
-        self.files
-            .iter()
-            .enumerate()
-            .map(|(i, file)| (FileId(i as u32), file))
+    /// The output name of a file.
+    pub(crate) fn name(&self, file: FileId) -> &str {
+        &self.get(file).name
     }
 
     fn get(&self, file: FileId) -> &SourceFile {

@@ -1,0 +1,219 @@
+//! The workspace configuration `higraph.toml` (`tooling.md` §3): parsed from text (no I/O),
+//! with every problem reported as HG6101 on the offending key or value. Problems never stop
+//! the analysis: the defaults apply.
+
+use std::collections::BTreeMap;
+
+use higraph_syntax::{TextRange, TextSize};
+use toml::de::{DeTable, DeValue};
+
+use crate::{Severity, lang::Mnemonic, registry};
+
+/// A configured severity: a level, or `off`.
+pub type Level = Option<Severity>;
+
+/// The parsed configuration.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Config {
+    pub include: Vec<String>,
+    pub exclude: Vec<String>,
+    pub mnemonic: Mnemonic,
+    /// Symbol tables to import, as written, with the range of each entry.
+    pub symbols: Vec<(String, TextRange)>,
+    /// Per-code severity overrides (`None` = off).
+    pub severities: BTreeMap<String, Level>,
+    /// HG6101 problems: range in `higraph.toml` and the problem text.
+    pub problems: Vec<(TextRange, String)>,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config {
+            include: vec!["**/*.higraph".to_owned()],
+            exclude: Vec::new(),
+            mnemonic: Mnemonic::Simatic,
+            symbols: Vec::new(),
+            severities: BTreeMap::new(),
+            problems: Vec::new(),
+        }
+    }
+}
+
+fn range(span: std::ops::Range<usize>) -> TextRange {
+    let size = |n: usize| TextSize::from(u32::try_from(n).unwrap_or(u32::MAX));
+    TextRange::new(size(span.start), size(span.end.max(span.start)))
+}
+
+impl Config {
+    /// Parses `higraph.toml`.
+    pub fn parse(text: &str) -> Config {
+        let mut config = Config::default();
+        let table = match DeTable::parse(text) {
+            Ok(table) => table,
+            Err(error) => {
+                let span = error.span().unwrap_or(0..0);
+                let message = error
+                    .message()
+                    .lines()
+                    .next()
+                    .unwrap_or("invalid TOML")
+                    .to_owned();
+                config
+                    .problems
+                    .push((range(span), format!("TOML syntax error: {message}")));
+                return config;
+            }
+        };
+        for (key, value) in table.get_ref() {
+            match key.get_ref().as_ref() {
+                "workspace" => config.workspace(value),
+                "diagnostics" => config.diagnostics(value),
+                other => config
+                    .problems
+                    .push((range(key.span()), format!("unknown section '{other}'"))),
+            }
+        }
+        config
+    }
+
+    /// The severity of `code` after overrides; `None` if the rule is off.
+    pub fn severity(&self, code: &str) -> Level {
+        if let Some(level) = self.severities.get(code) {
+            if !registry::is_syntax_code(code) {
+                return *level;
+            }
+        }
+        let rule = registry::rule_of(code)?;
+        (!rule.off_by_default).then_some(rule.default_severity)
+    }
+
+    fn workspace(&mut self, value: &toml::Spanned<DeValue<'_>>) {
+        let DeValue::Table(table) = value.get_ref() else {
+            self.problems.push((
+                range(value.span()),
+                "'workspace' must be a table".to_owned(),
+            ));
+            return;
+        };
+        for (key, value) in table {
+            let name = key.get_ref().as_ref();
+            match name {
+                "include" | "exclude" | "symbols" => match string_array(value) {
+                    Some(list) => match name {
+                        "include" => self.include = list.into_iter().map(|(s, _)| s).collect(),
+                        "exclude" => self.exclude = list.into_iter().map(|(s, _)| s).collect(),
+                        _ => self.symbols = list,
+                    },
+                    None => self.problems.push((
+                        range(value.span()),
+                        format!("'workspace.{name}' must be an array of strings"),
+                    )),
+                },
+                "mnemonic" => match value.get_ref() {
+                    DeValue::String(s) if Mnemonic::parse(s).is_some() => {
+                        self.mnemonic = Mnemonic::parse(s).unwrap_or_default();
+                    }
+                    _ => self.problems.push((
+                        range(value.span()),
+                        "'workspace.mnemonic' must be \"simatic\" or \"international\"".to_owned(),
+                    )),
+                },
+                other => self.problems.push((
+                    range(key.span()),
+                    format!("unknown key 'workspace.{other}'"),
+                )),
+            }
+        }
+    }
+
+    fn diagnostics(&mut self, value: &toml::Spanned<DeValue<'_>>) {
+        let DeValue::Table(table) = value.get_ref() else {
+            self.problems.push((
+                range(value.span()),
+                "'diagnostics' must be a table".to_owned(),
+            ));
+            return;
+        };
+        for (key, value) in table {
+            let code = key.get_ref().as_ref();
+            if registry::rule_of(code).is_none() {
+                self.problems.push((
+                    range(key.span()),
+                    format!("unknown diagnostic code '{code}'"),
+                ));
+                continue;
+            }
+            if registry::is_syntax_code(code) {
+                self.problems.push((
+                    range(key.span()),
+                    format!("{code} is a syntax error and its severity cannot be changed"),
+                ));
+                continue;
+            }
+            let level = match value.get_ref() {
+                DeValue::String(s) => match s.as_ref() {
+                    "error" => Some(Some(Severity::Error)),
+                    "warning" => Some(Some(Severity::Warning)),
+                    "info" => Some(Some(Severity::Info)),
+                    "hint" => Some(Some(Severity::Hint)),
+                    "off" => Some(None),
+                    _ => None,
+                },
+                _ => None,
+            };
+            match level {
+                Some(level) => {
+                    self.severities.insert(code.to_owned(), level);
+                }
+                None => self.problems.push((
+                    range(value.span()),
+                    format!(
+                        "invalid severity for {code}; use \"error\", \"warning\", \"info\", \"hint\" or \"off\""
+                    ),
+                )),
+            }
+        }
+    }
+}
+
+fn string_array(value: &toml::Spanned<DeValue<'_>>) -> Option<Vec<(String, TextRange)>> {
+    let DeValue::Array(items) = value.get_ref() else {
+        return None;
+    };
+    items
+        .iter()
+        .map(|item| match item.get_ref() {
+            DeValue::String(s) => Some((s.to_string(), range(item.span()))),
+            _ => None,
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_settings_and_reports_problems() {
+        let text = "[workspace]\nmnemonic = \"international\"\nsymbols = [\"a.sdf\"]\nfoo = 1\n\n\
+                    [diagnostics]\nHG2105 = \"off\"\nHG4403 = \"hint\"\nHG0001 = \"off\"\nHG9999 = \"error\"\nHG2304 = \"loud\"\n";
+        let config = Config::parse(text);
+        assert_eq!(config.mnemonic, Mnemonic::International);
+        assert_eq!(config.symbols[0].0, "a.sdf");
+        assert_eq!(config.severity("HG2105"), None);
+        assert_eq!(config.severity("HG4403"), Some(Severity::Hint));
+        assert_eq!(config.severity("HG4307"), None, "off by default");
+        assert_eq!(config.severity("HG0001"), Some(Severity::Error));
+        let problems: Vec<&str> = config.problems.iter().map(|(_, p)| p.as_str()).collect();
+        assert_eq!(problems.len(), 4, "{problems:?}");
+        let (r, _) = &config.problems[0];
+        assert_eq!(&text[std::ops::Range::<usize>::from(*r)], "foo");
+    }
+
+    #[test]
+    fn syntax_errors_are_problems_not_crashes() {
+        let config = Config::parse("[workspace\nmnemonic = ");
+        assert_eq!(config.problems.len(), 1);
+        assert_eq!(config.mnemonic, Mnemonic::Simatic);
+    }
+}

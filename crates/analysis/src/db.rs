@@ -1,0 +1,254 @@
+//! The salsa database: inputs (one per file, plus the workspace with its configuration and
+//! imported symbol tables) and the queries from text to diagnostics.
+//!
+//! ```text
+//! File.contents ─ parse ─┬─ file_summary (item kinds and names, mnemonic)  ─┐
+//!                        └─ item_syntax (one green node per item) ──┬────────┼─ global_index
+//!                                                                   │        │
+//!                                    item_diagnostics(ws, item) ◄───┴────────┘
+//!                                                 │
+//!                  file_diagnostics(ws, file) ◄───┴── workspace_diagnostics(ws)
+//! ```
+//!
+//! Every item is analysed from its own green node, whose offsets start at the item. A green
+//! node does not know where it stands in the file, so an edit in one item leaves the green
+//! nodes of the others equal: salsa backdates them, and their analyses are reused. Ranges are
+//! made absolute only at the very end ([`file_diagnostics`]).
+
+use std::sync::Arc;
+
+use higraph_syntax::{GreenNode, Parse, SyntaxKind, SyntaxNode, TextRange, TextSize, ast};
+
+use crate::{
+    FileContents,
+    config::Config,
+    diag::{Diag, Loc},
+    index::GlobalIndex,
+    lang::Mnemonic,
+    rules,
+    sdf::Import,
+};
+
+/// One file of the workspace.
+#[salsa::input(debug)]
+pub struct File {
+    /// Workspace-relative path with `/` separators.
+    #[returns(ref)]
+    pub path: String,
+    #[returns(ref)]
+    pub contents: Arc<FileContents>,
+}
+
+/// The workspace: its files in workspace order, configuration and imports.
+#[salsa::input(debug)]
+pub struct Workspace {
+    /// The `.higraph` files in workspace order.
+    #[returns(ref)]
+    pub files: Vec<File>,
+    #[returns(ref)]
+    pub config: Arc<Config>,
+    /// `higraph.toml` itself, if the workspace has one (for HG6101 and HG6005 ranges).
+    #[returns(copy)]
+    pub config_file: Option<File>,
+    /// Imported STEP 7 symbol tables, in `higraph.toml` order.
+    #[returns(ref)]
+    pub imports: Vec<Import>,
+}
+
+/// One top-level item of a file, by position in the file's item list.
+#[salsa::interned(debug)]
+pub struct ItemLoc<'db> {
+    #[returns(copy)]
+    pub file: File,
+    #[returns(copy)]
+    pub index: u32,
+}
+
+/// What kind of item stands at a position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ItemKind {
+    Mnemonic,
+    Graph,
+    Group,
+    Chart,
+    Symbols,
+    BlockInterface,
+}
+
+/// Per item: its kind and name. Position-independent, so edits inside items leave it equal.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct FileSummary {
+    pub items: Vec<ItemSummary>,
+    /// The first `mnemonic` directive of the file.
+    pub mnemonic: Option<Mnemonic>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ItemSummary {
+    pub kind: ItemKind,
+    pub name: Option<String>,
+    /// The name token, relative to the item's start.
+    pub name_range: Option<TextRange>,
+}
+
+/// The database. Clones are cheap snapshots for concurrent readers.
+#[salsa::db]
+#[derive(Clone, Default)]
+pub struct RootDatabase {
+    storage: salsa::Storage<Self>,
+}
+
+#[salsa::db]
+impl salsa::Database for RootDatabase {}
+
+impl RootDatabase {
+    /// A database that reports every salsa event to `on_event` (tests use it to record which
+    /// queries executed).
+    pub fn with_event_callback(
+        on_event: impl Fn(salsa::Event) + Send + Sync + 'static,
+    ) -> RootDatabase {
+        RootDatabase {
+            storage: salsa::Storage::new(Some(Box::new(on_event))),
+        }
+    }
+}
+
+/// The syntax tree of a file. Files that are not text have an empty tree.
+#[salsa::tracked(returns(ref))]
+pub fn parse(db: &dyn salsa::Database, file: File) -> Parse {
+    match &**file.contents(db) {
+        FileContents::Text(text) => higraph_syntax::parse(text),
+        _ => higraph_syntax::parse(""),
+    }
+}
+
+/// The top-level item nodes of a parse, in text order.
+pub fn item_nodes(parse: &Parse) -> impl Iterator<Item = SyntaxNode> + use<> {
+    parse
+        .syntax_node()
+        .children()
+        .filter(|n| ast::Item::cast(n.clone()).is_some())
+}
+
+fn item_kind(kind: SyntaxKind) -> Option<ItemKind> {
+    Some(match kind {
+        SyntaxKind::MNEMONIC => ItemKind::Mnemonic,
+        SyntaxKind::GRAPH => ItemKind::Graph,
+        SyntaxKind::GROUP => ItemKind::Group,
+        SyntaxKind::CHART => ItemKind::Chart,
+        SyntaxKind::SYMBOLS => ItemKind::Symbols,
+        SyntaxKind::BLOCK_INTERFACE => ItemKind::BlockInterface,
+        _ => return None,
+    })
+}
+
+/// The kinds and names of a file's items, and its mnemonic directive.
+#[salsa::tracked(returns(ref))]
+pub fn file_summary(db: &dyn salsa::Database, file: File) -> FileSummary {
+    let parse = parse(db, file);
+    let mut summary = FileSummary::default();
+    for node in item_nodes(parse) {
+        let Some(kind) = item_kind(node.kind()) else {
+            continue;
+        };
+        let start = node.text_range().start();
+        let name_node = match ast::Item::cast(node.clone()) {
+            Some(ast::Item::Graph(g)) => g.name(),
+            Some(ast::Item::Group(g)) => g.name(),
+            Some(ast::Item::Chart(c)) => c.name(),
+            Some(ast::Item::Mnemonic(m)) => {
+                let set = m.set().and_then(|t| Mnemonic::parse(t.text()));
+                if summary.mnemonic.is_none() {
+                    summary.mnemonic = set;
+                }
+                None
+            }
+            _ => None,
+        };
+        let name = name_node.as_ref().map(|n| n.text());
+        let name_range = name_node
+            .and_then(|n| n.token())
+            .map(|t| t.text_range() - start);
+        summary.items.push(ItemSummary {
+            kind,
+            name,
+            name_range,
+        });
+    }
+    summary
+}
+
+/// The green node of one item: its syntax with offsets relative to the item's start.
+#[salsa::tracked(returns(clone))]
+pub fn item_syntax<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Option<GreenNode> {
+    let parse = parse(db, item.file(db));
+    item_nodes(parse)
+        .nth(item.index(db) as usize)
+        .map(|n| n.green().to_owned())
+}
+
+/// The item's syntax tree, rooted at the item (offsets relative to the item's start).
+pub fn item_root(db: &dyn salsa::Database, item: ItemLoc<'_>) -> Option<SyntaxNode> {
+    item_syntax(db, item).map(SyntaxNode::new_root)
+}
+
+/// Where each item of a file starts (to make item-relative ranges absolute).
+#[salsa::tracked(returns(ref))]
+pub fn item_offsets(db: &dyn salsa::Database, file: File) -> Vec<TextSize> {
+    item_nodes(parse(db, file))
+        .map(|n| n.text_range().start())
+        .collect()
+}
+
+/// The mnemonic set of a file: its directive, else the workspace setting.
+pub fn file_mnemonic(db: &dyn salsa::Database, ws: Workspace, file: File) -> Mnemonic {
+    file_summary(db, file)
+        .mnemonic
+        .unwrap_or(ws.config(db).mnemonic)
+}
+
+/// All global names of the workspace: graphs, groups, charts, symbols, block interfaces.
+#[salsa::tracked(returns(ref))]
+pub fn global_index(db: &dyn salsa::Database, ws: Workspace) -> GlobalIndex {
+    GlobalIndex::build(db, ws)
+}
+
+/// The rules' findings in one item: diagnostics (ranges relative to the item unless a `Loc`
+/// names another place) and the global symbols it uses.
+#[salsa::tracked(returns(ref))]
+pub fn item_analysis<'db>(
+    db: &'db dyn salsa::Database,
+    ws: Workspace,
+    item: ItemLoc<'db>,
+) -> rules::ItemAnalysis {
+    rules::check_item(db, ws, item)
+}
+
+/// The diagnostics of one item.
+pub fn item_diagnostics<'db>(
+    db: &'db dyn salsa::Database,
+    ws: Workspace,
+    item: ItemLoc<'db>,
+) -> &'db [Diag] {
+    &item_analysis(db, ws, item).diags
+}
+
+/// Diagnostics that need the whole workspace (duplicate global names, unused symbols, ...).
+#[salsa::tracked(returns(ref))]
+pub fn workspace_diagnostics(db: &dyn salsa::Database, ws: Workspace) -> Vec<Diag> {
+    rules::check_workspace(db, ws)
+}
+
+/// Makes a `Loc` absolute: the range in its file.
+pub fn absolute_range(db: &dyn salsa::Database, loc: &Loc) -> TextRange {
+    match loc.item {
+        Some(index) => {
+            let offset = item_offsets(db, loc.file)
+                .get(index as usize)
+                .copied()
+                .unwrap_or_default();
+            loc.range + offset
+        }
+        None => loc.range,
+    }
+}

@@ -1,0 +1,89 @@
+//! Diagnostics as the rules produce them: positions as [`Loc`]s (a file, an item of it and a
+//! range relative to that item), so that they stay equal when other items of the file move.
+//! [`crate::check`] turns them into [`crate::Diagnostic`]s with absolute ranges and paths.
+
+use higraph_syntax::TextRange;
+
+use crate::{Code, db::File};
+
+/// A place in the workspace.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Loc {
+    pub file: File,
+    /// The item whose start `range` is relative to; `None` for a range relative to the file.
+    pub item: Option<u32>,
+    pub range: TextRange,
+}
+
+impl Loc {
+    pub fn in_item(file: File, item: u32, range: TextRange) -> Loc {
+        Loc {
+            file,
+            item: Some(item),
+            range,
+        }
+    }
+
+    pub fn in_file(file: File, range: TextRange) -> Loc {
+        Loc {
+            file,
+            item: None,
+            range,
+        }
+    }
+}
+
+/// A quick fix: a title and edits.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct DiagFix {
+    pub title: String,
+    pub edits: Vec<(Loc, String)>,
+}
+
+/// A diagnostic of a rule, before severities, suppressions and absolute positions.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Diag {
+    pub code: Code,
+    pub at: Loc,
+    pub message: String,
+    pub related: Vec<(Loc, String)>,
+    pub fixes: Vec<DiagFix>,
+    /// Unused code (HG1210, HG1212, HG6004): shown faded in editors.
+    pub unnecessary: bool,
+}
+
+impl Diag {
+    pub fn new(code: &'static str, at: Loc, message: impl Into<String>) -> Diag {
+        Diag {
+            code: Code::new(code),
+            at,
+            message: message.into(),
+            related: Vec::new(),
+            fixes: Vec::new(),
+            unnecessary: matches!(code, "HG1210" | "HG1212" | "HG6004"),
+        }
+    }
+
+    pub fn related(mut self, at: Loc, message: impl Into<String>) -> Diag {
+        self.related.push((at, message.into()));
+        self
+    }
+
+    /// A fix with one edit.
+    pub fn fix(mut self, title: impl Into<String>, at: Loc, new_text: impl Into<String>) -> Diag {
+        self.fixes.push(DiagFix {
+            title: title.into(),
+            edits: vec![(at, new_text.into())],
+        });
+        self
+    }
+
+    /// A fix with several edits.
+    pub fn fix_edits(mut self, title: impl Into<String>, edits: Vec<(Loc, String)>) -> Diag {
+        self.fixes.push(DiagFix {
+            title: title.into(),
+            edits,
+        });
+        self
+    }
+}

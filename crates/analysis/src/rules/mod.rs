@@ -1,0 +1,133 @@
+//! The rules of `diagnostics.md` §3, one module per family. Each module checks one kind of
+//! item (or the whole workspace) and pushes [`Diag`]s into the [`Ctx`].
+//!
+//! | module       | codes |
+//! |--------------|-------|
+//! | `names`      | HG1101–HG1103: name rules of every declared name |
+//! | `graph`      | HG1201–HG1206, HG1211–HG1213, HG1215 (graph declarations), HG2xxx, HG3001–HG3003, HG3007, HG3101, HG3102 |
+//! | `stl`        | operand resolution in graphs; HG1104, HG1207–HG1210, HG1214, HG3004–HG3006, HG3008, HG4xxx |
+//! | `group`      | HG3103, HG3104, HG5xxx, HG8xxx |
+//! | `symbols`    | HG6xxx, HG4309, HG4310, HG1301 (workspace-wide) |
+//! | `chart`      | HG7xxx and the chart side of HG1xxx/HG3xxx/HG4101 |
+
+use std::collections::BTreeSet;
+
+use higraph_syntax::{TextRange, ast};
+
+use crate::{
+    db::{self, File, ItemLoc, Workspace},
+    diag::{Diag, Loc},
+    index::GlobalIndex,
+    lang::Mnemonic,
+};
+
+mod chart;
+mod graph;
+mod group;
+mod names;
+mod stl;
+mod symbols;
+
+/// What the rules found in one item.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ItemAnalysis {
+    pub diags: Vec<Diag>,
+    /// Names (upper case) of the global symbols this item uses (for HG6004).
+    pub used_symbols: BTreeSet<String>,
+}
+
+/// The context of the rules of one item.
+pub(crate) struct Ctx<'a> {
+    pub db: &'a dyn salsa::Database,
+    pub ws: Workspace,
+    pub file: File,
+    pub item: u32,
+    pub mnemonic: Mnemonic,
+    pub index: &'a GlobalIndex,
+    pub out: ItemAnalysis,
+}
+
+impl Ctx<'_> {
+    /// A place in the current item.
+    pub fn loc(&self, range: TextRange) -> Loc {
+        Loc::in_item(self.file, self.item, range)
+    }
+
+    /// A diagnostic at a range of the current item.
+    pub fn diag(&self, code: &'static str, range: TextRange, message: impl Into<String>) -> Diag {
+        Diag::new(code, self.loc(range), message)
+    }
+
+    pub fn push(&mut self, diag: Diag) {
+        self.out.diags.push(diag);
+    }
+
+    /// Records a use of a global symbol (HG6004).
+    pub fn use_symbol(&mut self, name: &str) {
+        self.out.used_symbols.insert(crate::index::key(name));
+    }
+}
+
+pub(crate) fn check_item(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    item: ItemLoc<'_>,
+) -> ItemAnalysis {
+    let Some(root) = db::item_root(db, item) else {
+        return ItemAnalysis::default();
+    };
+    let file = item.file(db);
+    let mut ctx = Ctx {
+        db,
+        ws,
+        file,
+        item: item.index(db),
+        mnemonic: db::file_mnemonic(db, ws, file),
+        index: db::global_index(db, ws),
+        out: ItemAnalysis::default(),
+    };
+    match ast::Item::cast(root) {
+        Some(ast::Item::Graph(graph)) => {
+            names::check_graph(&mut ctx, &graph);
+            graph::check(&mut ctx, &graph);
+            stl::check(&mut ctx, &graph);
+        }
+        Some(ast::Item::Group(group)) => {
+            names::check_group(&mut ctx, &group);
+            group::check(&mut ctx, &group);
+        }
+        Some(ast::Item::Chart(chart)) => {
+            names::check_chart(&mut ctx, &chart);
+            chart::check(&mut ctx, &chart);
+        }
+        Some(ast::Item::Symbols(table)) => {
+            names::check_symbols(&mut ctx, &table);
+            symbols::check_table(&mut ctx, &table);
+        }
+        Some(ast::Item::BlockInterface(interface)) => {
+            names::check_block_interface(&mut ctx, &interface);
+            graph::check_block_interface(&mut ctx, &interface);
+            symbols::check_block_interface(&mut ctx, &interface);
+        }
+        Some(ast::Item::Mnemonic(_)) | None => {}
+    }
+    ctx.out
+}
+
+pub(crate) fn check_workspace(db: &dyn salsa::Database, ws: Workspace) -> Vec<Diag> {
+    let mut out = Vec::new();
+    symbols::check_workspace(db, ws, &mut out);
+    group::check_workspace(db, ws, &mut out);
+    out
+}
+
+/// The global symbols used anywhere in a file (HG6004), per item, unioned.
+#[salsa::tracked(returns(ref))]
+pub fn file_symbol_uses(db: &dyn salsa::Database, ws: Workspace, file: File) -> BTreeSet<String> {
+    let mut uses = BTreeSet::new();
+    for index in 0..db::file_summary(db, file).items.len() {
+        let item = ItemLoc::new(db, file, index as u32);
+        uses.extend(db::item_analysis(db, ws, item).used_symbols.iter().cloned());
+    }
+    uses
+}

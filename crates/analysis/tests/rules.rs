@@ -1,0 +1,135 @@
+//! Rule fixtures: `test_data/rules/HGnnnn/fail*.higraph` must produce HGnnnn, `pass*.higraph`
+//! must not. A fixture is one workspace: either a single file (`main.higraph`), or several
+//! files introduced by `//- path` lines (rust-analyzer style), where `//- higraph.toml` is the
+//! configuration and `//- x.sdf` an imported symbol table. The diagnostics of every failing
+//! fixture are snapshotted (code, severity, file, range, message, related, fixes).
+
+use std::{collections::HashMap, fs, path::Path};
+
+use higraph_analysis::{AnalysisHost, FileContents, LineIndex, WorkspaceData};
+
+/// Splits a fixture into files.
+fn files(text: &str) -> Vec<(String, String)> {
+    if !text.starts_with("//- ") {
+        return vec![("main.higraph".to_owned(), text.to_owned())];
+    }
+    let mut files: Vec<(String, String)> = Vec::new();
+    for line in text.split_inclusive('\n') {
+        if let Some(path) = line.strip_prefix("//- ") {
+            files.push((path.trim().to_owned(), String::new()));
+        } else if let Some((_, body)) = files.last_mut() {
+            body.push_str(line);
+        }
+    }
+    files
+}
+
+/// Runs the analysis over a fixture and renders every diagnostic, one per line.
+pub fn check_fixture(text: &str) -> Vec<(String, String)> {
+    let mut data = WorkspaceData::default();
+    let mut imports = HashMap::new();
+    for (path, body) in files(text) {
+        if path == "higraph.toml" {
+            data.config = Some((path, body));
+        } else if path.ends_with(".higraph") {
+            data.files.push((path, FileContents::Text(body)));
+        } else {
+            imports.insert(path, Ok(body.into_bytes()));
+        }
+    }
+    data.imports = imports;
+    let mut host = AnalysisHost::new();
+    host.load(data);
+    let analysis = host.analysis();
+    let out_files = analysis.files();
+    let indexes: Vec<LineIndex> = out_files
+        .iter()
+        .map(|f| LineIndex::new(f.contents.text()))
+        .collect();
+    let pos = |file: usize, offset| {
+        let p = indexes[file].utf16_position(offset);
+        format!("{}:{}", p.line, p.column)
+    };
+    let mut lines = Vec::new();
+    for (file, diagnostics) in analysis.diagnostics() {
+        let f = file.0 as usize;
+        for d in diagnostics {
+            let mut line = format!(
+                "{} {}-{} {}[{}] {}",
+                out_files[f].path,
+                pos(f, d.range.start()),
+                pos(f, d.range.end()),
+                d.severity,
+                d.code,
+                d.message
+            );
+            for r in &d.related {
+                let rf = r.file.0 as usize;
+                line.push_str(&format!(
+                    "\n    related {} {}: {}",
+                    out_files[rf].path,
+                    pos(rf, r.range.start()),
+                    r.message
+                ));
+            }
+            for fix in &d.fixes {
+                line.push_str(&format!("\n    fix: {}", fix.title));
+                for e in &fix.edits {
+                    let ef = e.file.0 as usize;
+                    line.push_str(&format!(
+                        "\n      {} {}-{} {:?}",
+                        out_files[ef].path,
+                        pos(ef, e.range.start()),
+                        pos(ef, e.range.end()),
+                        e.new_text
+                    ));
+                }
+            }
+            lines.push((d.code.to_string(), line));
+        }
+    }
+    lines.sort();
+    lines
+}
+
+fn code_of(path: &Path) -> String {
+    path.parent()
+        .and_then(|p| p.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+fn render(lines: &[(String, String)]) -> String {
+    lines.iter().map(|(_, l)| format!("{l}\n")).collect()
+}
+
+#[test]
+fn failing_fixtures_produce_their_code() {
+    insta::glob!("../test_data/rules", "HG*/fail*.higraph", |path| {
+        let code = code_of(path);
+        let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let lines = check_fixture(&text);
+        assert!(
+            lines.iter().any(|(c, _)| *c == code),
+            "{} should produce {code}:\n{}",
+            path.display(),
+            render(&lines)
+        );
+        insta::assert_snapshot!(render(&lines));
+    });
+}
+
+#[test]
+fn passing_fixtures_do_not_produce_their_code() {
+    insta::glob!("../test_data/rules", "HG*/pass*.higraph", |path| {
+        let code = code_of(path);
+        let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let lines = check_fixture(&text);
+        assert!(
+            !lines.iter().any(|(c, _)| *c == code),
+            "{} must not produce {code}:\n{}",
+            path.display(),
+            render(&lines)
+        );
+    });
+}
