@@ -11,6 +11,7 @@
 
 pub mod address;
 mod check;
+pub mod closest;
 pub mod config;
 pub mod db;
 pub mod diag;
