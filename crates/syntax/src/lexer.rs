@@ -88,7 +88,9 @@ pub(crate) fn token_errors(token: Token<'_>, offset: TextSize, errors: &mut Vec<
                 format!("unexpected character '{c}' (U+{:04X})", c as u32),
             ));
         }
-        SyntaxKind::IDENT | SyntaxKind::TYPED_CONST => non_ascii_runs(token.text, offset, errors),
+        SyntaxKind::IDENT | SyntaxKind::TYPED_CONST if !token.text.is_ascii() => {
+            non_ascii_runs(token.text, offset, errors)
+        }
         _ => {}
     }
 }

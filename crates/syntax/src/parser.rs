@@ -23,6 +23,7 @@ use crate::{
     SyntaxKind::*,
     error::ErrorCode,
     lexer::{self, Token},
+    validation,
 };
 
 pub(crate) fn parse(text: &str) -> (GreenNode, Vec<SyntaxError>) {
@@ -244,6 +245,11 @@ impl<'t> Parser<'t> {
         self.flush_trivia();
         let i = self.significant[self.pos];
         let token = self.tokens[i];
+        if matches!(token.kind, TYPED_CONST | CHAR) {
+            // Typed and character constants are checked wherever they stand (HG0006/HG0007).
+            let range = TextRange::at(self.offsets[i], TextSize::of(token.text));
+            validation::check_constant_token(token.kind, token.text, range, &mut self.errors);
+        }
         self.builder.token(kind.into(), token.text);
         self.emitted = i + 1;
         self.last_end = self.offsets[i] + TextSize::of(token.text);

@@ -1,44 +1,33 @@
-//! Checks over the finished tree that need no parser state: constants (HG0006, HG0007).
+//! Checks of constants (HG0006, HG0007), called by the parser as it builds the tree.
 //!
 //! Typed and character constants are checked wherever they stand (the lexer made them one
 //! token); plain numbers only where they are constants (LITERAL nodes), since a state number or
 //! a byte address is not a constant.
 
-use crate::{SyntaxError, SyntaxKind::*, SyntaxNode, literal::check_literal, rowan::NodeOrToken};
+use rowan::TextRange;
 
-pub(crate) fn validate(root: &SyntaxNode, errors: &mut Vec<SyntaxError>) {
-    for element in root.descendants_with_tokens() {
-        let (text, range) = match &element {
-            NodeOrToken::Token(token) => match token.kind() {
-                TYPED_CONST => (token.text().to_owned(), token.text_range()),
-                // An unclosed constant already has HG0005.
-                CHAR if is_closed_char(token.text()) => {
-                    (token.text().to_owned(), token.text_range())
-                }
-                _ => continue,
-            },
-            NodeOrToken::Node(node) if node.kind() == LITERAL => {
-                let is_number = node
-                    .children_with_tokens()
-                    .filter_map(|e| e.into_token())
-                    .any(|t| t.kind() == NUMBER);
-                if !is_number {
-                    continue;
-                }
-                (node.text().to_string(), node.text_range())
-            }
-            NodeOrToken::Node(_) => continue,
-        };
-        if let Err(error) = check_literal(&text) {
-            errors.push(SyntaxError::new(
-                error.code.error_code(),
-                range,
-                error.message,
-            ));
-        }
+use crate::{SyntaxError, SyntaxKind, lexer::is_closed_char, literal::check_literal};
+
+/// Checks a `TYPED_CONST` or `CHAR` token. An unclosed character constant already has HG0005.
+pub(crate) fn check_constant_token(
+    kind: SyntaxKind,
+    text: &str,
+    range: TextRange,
+    errors: &mut Vec<SyntaxError>,
+) {
+    if kind == SyntaxKind::CHAR && !is_closed_char(text) {
+        return;
     }
+    push(text, range, errors);
 }
 
-fn is_closed_char(text: &str) -> bool {
-    crate::lexer::is_closed_char(text)
+/// Checks a number constant (with a joined `-`).
+pub(crate) fn check_number(text: &str, range: TextRange, errors: &mut Vec<SyntaxError>) {
+    push(text, range, errors);
+}
+
+fn push(text: &str, range: TextRange, errors: &mut Vec<SyntaxError>) {
+    if let Err(error) = check_literal(text) {
+        errors.push(SyntaxError::new(error.code.error_code(), range, error.message));
+    }
 }

@@ -420,13 +420,27 @@ pub(crate) fn literal_len(p: &Parser<'_>) -> usize {
     }
 }
 
-/// A constant (LITERAL node).
+/// A constant (LITERAL node). Numbers are checked here (HG0007); typed and character
+/// constants are checked as tokens wherever they stand.
 pub(crate) fn literal(p: &mut Parser<'_>) -> bool {
     let n = literal_len(p);
-    if n > 0 {
-        p.bump_node(LITERAL, n);
+    if n == 0 {
+        return false;
     }
-    n > 0
+    let is_number = p.at(NUMBER) || p.at(MINUS);
+    if is_number {
+        let start = p.nth_range(0).start();
+        let end = p.nth_range(n - 1).end();
+        let text: String = (0..n).map(|i| p.nth_text(i)).collect();
+        let range = rowan::TextRange::new(start, end);
+        let mut errors = Vec::new();
+        crate::validation::check_number(&text, range, &mut errors);
+        for error in errors {
+            p.push_error(error);
+        }
+    }
+    p.bump_node(LITERAL, n);
+    true
 }
 
 /// One STL operand (or a time value): an address, `#Name`, a name, `"symbol"`, a constant,
