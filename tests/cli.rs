@@ -8,3 +8,5 @@ mod support;
 mod check;
 #[path = "cli/parse.rs"]
 mod parse;
+#[path = "cli/sarif.rs"]
+mod sarif;

@@ -308,7 +308,15 @@ impl SyntaxKind {
 
     /// The keyword kind for a (case-insensitive) word, if the word is a keyword somewhere.
     pub fn from_keyword(word: &str) -> Option<SyntaxKind> {
-        let kw = match word.to_ascii_lowercase().as_str() {
+        // Lower-case into a stack buffer: keywords are short ASCII words.
+        let mut buffer = [0u8; 16];
+        if word.len() > buffer.len() || !word.is_ascii() {
+            return None;
+        }
+        let lower = &mut buffer[..word.len()];
+        lower.copy_from_slice(word.as_bytes());
+        lower.make_ascii_lowercase();
+        let kw = match std::str::from_utf8(lower).unwrap_or("") {
             "mnemonic" => MNEMONIC_KW,
             "simatic" => SIMATIC_KW,
             "international" => INTERNATIONAL_KW,

@@ -1,13 +1,368 @@
 //! HG1101–HG1103: the name rules of the original declaration editor, for every declared name
-//! (§2.2): graphs, groups, charts, variables, instances, sequencers, steps, chart transitions,
-//! jumps, loops, and symbols written as a NAME.
+//! (§2.2): graphs, groups, charts, variables (of graphs, charts and block interfaces),
+//! instances, sequencers, steps, chart transitions, jumps, loops, and symbols written as a NAME.
+//!
+//! * HG1101 — the name ends with `_`; fix: drop the trailing underscores.
+//! * HG1102 — the name contains `__`; fix: collapse each run of `_` into one.
+//! * HG1103 — the name is a reserved word of Appendix A.1 for the file's mnemonic set.
+//!
+//! The rename fixes are offered only if the new name is valid (passes all three rules) and free
+//! in the name's namespace. They edit the declaration and every same-spelled reference to it
+//! *within the same item* (references in other items are left to the editor's rename).
+//! Names that are not identifiers (quoted symbols, numeric step names) are exempt.
 
-use higraph_syntax::ast;
+use higraph_syntax::{SyntaxKind, SyntaxNode, SyntaxToken, TextRange, ast, ast::AstNode};
 
 use super::Ctx;
+use crate::{diag::Loc, lang};
 
-pub(crate) fn check_graph(_ctx: &mut Ctx<'_>, _graph: &ast::Graph) {}
-pub(crate) fn check_group(_ctx: &mut Ctx<'_>, _group: &ast::Group) {}
-pub(crate) fn check_chart(_ctx: &mut Ctx<'_>, _chart: &ast::Chart) {}
-pub(crate) fn check_symbols(_ctx: &mut Ctx<'_>, _table: &ast::Symbols) {}
-pub(crate) fn check_block_interface(_ctx: &mut Ctx<'_>, _interface: &ast::BlockInterface) {}
+/// Where a declared name lives: decides which names a rename must avoid and which references
+/// it updates.
+enum Namespace {
+    /// Graphs, groups, charts and `NAME` symbols: the workspace namespace.
+    Global,
+    /// A graph variable: the graph's variables and the predefined variables; references are
+    /// the graph's operands.
+    GraphVariable(Vec<String>),
+    /// A chart variable: the chart's variables; references are one-segment chart paths.
+    ChartVariable(Vec<String>),
+    /// A block interface variable: the interface's variables; no references.
+    BlockVariable(Vec<String>),
+    /// A group instance: the group's instances; references are `Inst.Msg` targets.
+    Instance(Vec<String>),
+    /// A sequencer: the chart's sequencers; no references.
+    Sequencer(Vec<String>),
+    /// A step: the sequencer's steps; references are jump and loop targets.
+    Step(Vec<String>),
+    /// A chart transition, jump or loop: the sequencer's transitions; no references.
+    ChartTransition(Vec<String>),
+}
+
+/// Checks the graph's name and its variables.
+pub(crate) fn check_graph(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
+    let root = graph.syntax().clone();
+    check_name(ctx, &root, graph.name(), &Namespace::Global);
+    let sections: Vec<ast::VarSection> = graph.var_sections().collect();
+    let names = variable_names(&sections);
+    for decl in sections.iter().flat_map(|s| s.decls()) {
+        check_name(
+            ctx,
+            &root,
+            decl.name(),
+            &Namespace::GraphVariable(names.clone()),
+        );
+    }
+}
+
+/// Checks the group's name and its instances.
+pub(crate) fn check_group(ctx: &mut Ctx<'_>, group: &ast::Group) {
+    let root = group.syntax().clone();
+    check_name(ctx, &root, group.name(), &Namespace::Global);
+    let instances: Vec<String> = group
+        .instances()
+        .filter_map(|i| i.name())
+        .map(|n| n.text())
+        .collect();
+    for instance in group.instances() {
+        check_name(
+            ctx,
+            &root,
+            instance.name(),
+            &Namespace::Instance(instances.clone()),
+        );
+    }
+}
+
+/// Checks the chart's name, variables, sequencers and sequencer elements.
+pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
+    let root = chart.syntax().clone();
+    check_name(ctx, &root, chart.name(), &Namespace::Global);
+    let sections: Vec<ast::VarSection> = chart.var_sections().collect();
+    let names = variable_names(&sections);
+    for decl in sections.iter().flat_map(|s| s.decls()) {
+        check_name(
+            ctx,
+            &root,
+            decl.name(),
+            &Namespace::ChartVariable(names.clone()),
+        );
+    }
+    let sequencers: Vec<ast::Sequencer> = chart.sequencers().collect();
+    let sequencer_names: Vec<String> = sequencers
+        .iter()
+        .filter_map(|s| s.name())
+        .map(|n| n.text())
+        .collect();
+    for sequencer in &sequencers {
+        check_name(
+            ctx,
+            &root,
+            sequencer.name(),
+            &Namespace::Sequencer(sequencer_names.clone()),
+        );
+        check_sequencer_elements(ctx, sequencer);
+    }
+}
+
+/// Steps, chart transitions, jumps and loops of one sequencer, at every nesting level.
+fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
+    let root = sequencer.syntax().clone();
+    let elements: Vec<ast::SeqElement> = root
+        .descendants()
+        .filter_map(ast::SeqElement::cast)
+        .collect();
+    let steps: Vec<String> = elements
+        .iter()
+        .filter_map(|e| match e {
+            ast::SeqElement::Step(s) => s.name().map(|n| n.text()),
+            _ => None,
+        })
+        .collect();
+    let transitions: Vec<String> = elements
+        .iter()
+        .filter_map(|e| match e {
+            ast::SeqElement::Trans(t) => t.name().map(|n| n.text()),
+            ast::SeqElement::Jump(j) => j.name().map(|n| n.text()),
+            ast::SeqElement::Loop(l) => l.name().map(|n| n.text()),
+            _ => None,
+        })
+        .collect();
+    for element in &elements {
+        match element {
+            ast::SeqElement::Step(s) => {
+                check_name(ctx, &root, s.name(), &Namespace::Step(steps.clone()));
+            }
+            ast::SeqElement::Trans(t) => {
+                let ns = Namespace::ChartTransition(transitions.clone());
+                check_name(ctx, &root, t.name(), &ns);
+            }
+            ast::SeqElement::Jump(j) => {
+                let ns = Namespace::ChartTransition(transitions.clone());
+                check_name(ctx, &root, j.name(), &ns);
+            }
+            ast::SeqElement::Loop(l) => {
+                let ns = Namespace::ChartTransition(transitions.clone());
+                check_name(ctx, &root, l.name(), &ns);
+            }
+            ast::SeqElement::Parallel(_) | ast::SeqElement::Alt(_) => {}
+        }
+    }
+}
+
+/// Checks the symbols written as a NAME (quoted symbols are exempt).
+pub(crate) fn check_symbols(ctx: &mut Ctx<'_>, table: &ast::Symbols) {
+    let root = table.syntax().clone();
+    for symbol in table.symbols() {
+        check_name(ctx, &root, symbol.name(), &Namespace::Global);
+    }
+}
+
+/// Checks the variables of a `block` interface.
+pub(crate) fn check_block_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInterface) {
+    let root = interface.syntax().clone();
+    let sections: Vec<ast::VarSection> = interface.var_sections().collect();
+    let names = variable_names(&sections);
+    for decl in sections.iter().flat_map(|s| s.decls()) {
+        check_name(
+            ctx,
+            &root,
+            decl.name(),
+            &Namespace::BlockVariable(names.clone()),
+        );
+    }
+}
+
+/// The names of all variables of some sections, in declaration order.
+fn variable_names(sections: &[ast::VarSection]) -> Vec<String> {
+    sections
+        .iter()
+        .flat_map(|s| s.decls())
+        .filter_map(|d| d.name())
+        .map(|n| n.text())
+        .collect()
+}
+
+/// HG1101–HG1103 for one declared name.
+fn check_name(ctx: &mut Ctx<'_>, root: &SyntaxNode, name: Option<ast::Name>, ns: &Namespace) {
+    let Some(token) = name.and_then(|n| n.token()) else {
+        return;
+    };
+    // Quoted symbols and numeric step names are not identifiers (§2.2, HG7102).
+    if token.kind() != SyntaxKind::IDENT {
+        return;
+    }
+    let text = token.text();
+    let range = token.text_range();
+    if text.ends_with('_') {
+        let message = format!("name '{text}' must not end with '_'");
+        let new_name = text.trim_end_matches('_');
+        let diag = with_rename(ctx, ctx.diag("HG1101", range, message), root, &token, new_name, ns);
+        ctx.push(diag);
+    }
+    if text.contains("__") {
+        let message = format!("name '{text}' must not contain '__'");
+        let new_name = collapse_underscores(text);
+        let diag = with_rename(ctx, ctx.diag("HG1102", range, message), root, &token, &new_name, ns);
+        ctx.push(diag);
+    }
+    if let Some(kind) = lang::reserved_kind(text, ctx.mnemonic) {
+        let message = format!("'{text}' is reserved ({kind}) and cannot be used as a name");
+        let diag = ctx.diag("HG1103", range, message);
+        ctx.push(diag);
+    }
+}
+
+/// `A__B___C` → `A_B_C`.
+fn collapse_underscores(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c == '_' && out.ends_with('_') {
+            continue;
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Adds the rename fix if `new_name` is valid and free.
+fn with_rename(
+    ctx: &Ctx<'_>,
+    diag: crate::diag::Diag,
+    root: &SyntaxNode,
+    declaration: &SyntaxToken,
+    new_name: &str,
+    ns: &Namespace,
+) -> crate::diag::Diag {
+    if !is_valid_name(new_name, ctx.mnemonic) || !is_free(ctx, new_name, declaration.text(), ns) {
+        return diag;
+    }
+    let mut edits: Vec<(Loc, String)> = vec![(ctx.loc(declaration.text_range()), new_name.into())];
+    edits.extend(
+        references(root, declaration.text(), ns)
+            .into_iter()
+            .map(|r| (ctx.loc(r), new_name.to_owned())),
+    );
+    diag.fix_edits(format!("Rename to '{new_name}'"), edits)
+}
+
+/// Does `name` pass the name rules (an identifier without trailing `_`, without `__`, not
+/// reserved)?
+fn is_valid_name(name: &str, mnemonic: lang::Mnemonic) -> bool {
+    let mut chars = name.chars();
+    let starts_well = chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
+    starts_well
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !name.ends_with('_')
+        && !name.contains("__")
+        && lang::reserved_kind(name, mnemonic).is_none()
+}
+
+/// Is `new_name` unused in the namespace (apart from the declaration being renamed)?
+fn is_free(ctx: &Ctx<'_>, new_name: &str, old_name: &str, ns: &Namespace) -> bool {
+    let taken = |names: &Vec<String>| {
+        names
+            .iter()
+            .any(|n| n.eq_ignore_ascii_case(new_name) && !n.eq_ignore_ascii_case(old_name))
+    };
+    match ns {
+        Namespace::Global => {
+            ctx.index.item(new_name).is_none() && ctx.index.symbol(new_name).is_none()
+        }
+        Namespace::GraphVariable(names) => !taken(names) && lang::predefined(new_name).is_none(),
+        Namespace::ChartVariable(names)
+        | Namespace::BlockVariable(names)
+        | Namespace::Instance(names)
+        | Namespace::Sequencer(names)
+        | Namespace::Step(names)
+        | Namespace::ChartTransition(names) => !taken(names),
+    }
+}
+
+/// The references to a declared name inside `root` that a rename updates.
+fn references(root: &SyntaxNode, name: &str, ns: &Namespace) -> Vec<TextRange> {
+    let same = |t: &SyntaxToken| t.kind() == SyntaxKind::IDENT && t.text().eq_ignore_ascii_case(name);
+    let mut out = Vec::new();
+    for node in root.descendants() {
+        let Some(parent) = node.parent() else {
+            continue;
+        };
+        let token = match (ns, node.kind()) {
+            (Namespace::GraphVariable(_), SyntaxKind::VAR_REF) => ident_of(&node),
+            (Namespace::GraphVariable(_), SyntaxKind::NAME_REF) if is_graph_operand(&node) => {
+                ident_of(&node)
+            }
+            (Namespace::ChartVariable(_), SyntaxKind::NAME_REF)
+                if parent.kind() == SyntaxKind::PATH && is_single_segment(&parent) =>
+            {
+                ident_of(&node)
+            }
+            (Namespace::Instance(_), SyntaxKind::NAME_REF)
+                if parent.kind() == SyntaxKind::MESSAGE_TARGET
+                    && parent.children().next().as_ref() == Some(&node) =>
+            {
+                ident_of(&node)
+            }
+            (Namespace::Step(_), SyntaxKind::NAME_REF)
+                if matches!(parent.kind(), SyntaxKind::JUMP | SyntaxKind::LOOP) =>
+            {
+                ident_of(&node)
+            }
+            _ => None,
+        };
+        if let Some(token) = token.filter(same) {
+            out.push(token.text_range());
+        }
+    }
+    out
+}
+
+/// Is a NAME_REF in a graph an operand (of a statement, a time value or a CALL actual)?
+fn is_graph_operand(node: &SyntaxNode) -> bool {
+    let Some(parent) = node.parent() else {
+        return false;
+    };
+    match parent.kind() {
+        SyntaxKind::STL_STMT | SyntaxKind::WAIT_ITEM | SyntaxKind::SUPERVISE_ITEM => true,
+        // The first NAME_REF of a parameter is the callee's formal, not an operand.
+        SyntaxKind::PARAM => parent.children().next().as_ref() != Some(node),
+        _ => false,
+    }
+}
+
+/// A chart path of exactly one name segment.
+fn is_single_segment(path: &SyntaxNode) -> bool {
+    path.children().count() == 1
+        && !path
+            .children_with_tokens()
+            .any(|e| e.kind() == SyntaxKind::DOT)
+}
+
+/// The identifier token directly inside a node.
+fn ident_of(node: &SyntaxNode) -> Option<SyntaxToken> {
+    node.children_with_tokens()
+        .filter_map(|e| e.into_token())
+        .find(|t| t.kind() == SyntaxKind::IDENT)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn collapses_runs_of_underscores() {
+        assert_eq!(collapse_underscores("A__B___C"), "A_B_C");
+        assert_eq!(collapse_underscores("__A"), "_A");
+    }
+
+    #[test]
+    fn validates_new_names() {
+        assert!(is_valid_name("Motor_1", lang::Mnemonic::Simatic));
+        assert!(!is_valid_name("", lang::Mnemonic::Simatic));
+        assert!(!is_valid_name("A_", lang::Mnemonic::Simatic));
+        assert!(!is_valid_name("BOOL", lang::Mnemonic::Simatic));
+        assert!(!is_valid_name("U", lang::Mnemonic::Simatic));
+        assert!(is_valid_name("U", lang::Mnemonic::International));
+    }
+}

@@ -76,6 +76,8 @@ pub(crate) enum Format {
     Json,
     /// GitHub Actions workflow commands (`::error file=…`).
     Github,
+    /// a SARIF 2.1.0 log (one run), e.g. for GitHub code scanning.
+    Sarif,
 }
 
 /// What `--deny` can turn into failures.

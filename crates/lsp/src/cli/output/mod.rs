@@ -8,6 +8,7 @@
 mod github;
 mod human;
 mod json;
+mod sarif;
 mod short;
 
 use higraph_analysis::{
@@ -177,6 +178,7 @@ pub(crate) fn render(format: Format, report: &Report, sources: &Sources, color: 
         Format::Short => short::render(report, sources),
         Format::Json => json::render(report, sources),
         Format::Github => github::render(report, sources),
+        Format::Sarif => sarif::render(report, sources),
     }
 }
 
