@@ -11,5 +11,8 @@ fn main() {
     }
     let per = start.elapsed() / n as u32;
     let mb = text.len() as f64 / 1e6;
-    println!("{per:?} per parse, {:.1} MB/s, {errors} errors", mb / per.as_secs_f64());
+    println!(
+        "{per:?} per parse, {:.1} MB/s, {errors} errors",
+        mb / per.as_secs_f64()
+    );
 }

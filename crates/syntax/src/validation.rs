@@ -28,6 +28,10 @@ pub(crate) fn check_number(text: &str, range: TextRange, errors: &mut Vec<Syntax
 
 fn push(text: &str, range: TextRange, errors: &mut Vec<SyntaxError>) {
     if let Err(error) = check_literal(text) {
-        errors.push(SyntaxError::new(error.code.error_code(), range, error.message));
+        errors.push(SyntaxError::new(
+            error.code.error_code(),
+            range,
+            error.message,
+        ));
     }
 }

@@ -216,7 +216,9 @@ pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
     let op_display: String = (0..n).map(|i| p.nth_text(i)).collect();
     p.bump_node(OPCODE, n);
     let element = format!("'{op_display}'");
-    if !p.nth_on_new_line(0) && !p.at(SEMI) {
+    // A label after the operation is never its operand (diagnostics.md HG0002).
+    let operand_follows = !p.nth_on_new_line(0) && !p.at(SEMI) && !at_label(p) && !at_jump_label(p);
+    if operand_follows {
         let errors = p.error_count();
         if n == 1 && (op.eq_ignore_ascii_case("CALL") || op.eq_ignore_ascii_case("CC")) {
             call_args(p);
@@ -230,7 +232,7 @@ pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
             return;
         }
     }
-    p.expect_semi(&element, at_stmt_start);
+    p.expect_semi(&element, |p| at_stmt_start(p) || at_jump_label(p));
     p.finish_node();
 }
 
