@@ -9,8 +9,8 @@ use crate::SyntaxKind::*;
 const AREAS: &[&str] = &[
     "E", "A", "M", "L", "I", "Q", "EB", "EW", "ED", "AB", "AW", "AD", "MB", "MW", "MD", "LB", "LW",
     "LD", "IB", "IW", "ID", "QB", "QW", "QD", "PEB", "PEW", "PED", "PAB", "PAW", "PAD", "PIB",
-    "PIW", "PID", "PQB", "PQW", "PQD", "DBX", "DBB", "DBW", "DBD", "DIX", "DIB", "DIW", "DID", "T",
-    "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
+    "PIW", "PID", "PQB", "PQW", "PQD", "PE", "PA", "PI", "PQ", "DBX", "DBB", "DBW", "DBD", "DIX",
+    "DIB", "DIW", "DID", "T", "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
 ];
 
 /// Areas that name blocks (`FC 10`, `DB 5`).
@@ -458,6 +458,10 @@ pub(crate) fn operand(p: &mut Parser<'_>) -> bool {
         return true;
     }
     match p.current() {
+        // `MW [MD 10]`, `E [AR1, P#0.0]`: memory- and register-indirect operands.
+        IDENT if is_area(p.nth_text(0)) && p.nth(1) == L_BRACK && !p.nth_on_new_line(1) => {
+            indirect(p)
+        }
         HASH if p.nth(1) == IDENT && p.nth_joined(1) => p.bump_node(VAR_REF, 2),
         STRING => p.bump_node(SYMBOL_REF, 1),
         IDENT => p.bump_node(NAME_REF, 1),
@@ -487,9 +491,13 @@ fn status_len(p: &Parser<'_>) -> usize {
     }
 }
 
-/// `[ ... ]` — everything up to the matching `]` on the statement.
+/// `[ ... ]`, optionally after an area (`MW [MD 10]`) — everything up to the matching `]` on
+/// the statement.
 fn indirect(p: &mut Parser<'_>) {
     p.start(INDIRECT);
+    if p.at(IDENT) {
+        p.bump();
+    }
     p.bump();
     while !p.at_eof() && !p.at(R_BRACK) && !p.at(SEMI) && !p.at(R_ANGLE) {
         p.bump();
