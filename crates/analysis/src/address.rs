@@ -74,6 +74,8 @@ struct AreaName {
     international: &'static str,
     area: Area,
     size: Size,
+    /// What the area means, for HG4102.
+    meaning: &'static str,
 }
 
 const fn an(
@@ -81,58 +83,186 @@ const fn an(
     international: &'static str,
     area: Area,
     size: Size,
+    meaning: &'static str,
 ) -> AreaName {
     AreaName {
         simatic,
         international,
         area,
         size,
+        meaning,
     }
 }
 
 /// Area identifiers of Appendix A.2, plus the bare peripheral areas (always malformed).
 const AREA_NAMES: &[AreaName] = &[
-    an("E", "I", Area::Input, Size::Bit),
-    an("A", "Q", Area::Output, Size::Bit),
-    an("M", "M", Area::Memory, Size::Bit),
-    an("L", "L", Area::Local, Size::Bit),
-    an("EB", "IB", Area::Input, Size::Byte),
-    an("EW", "IW", Area::Input, Size::Word),
-    an("ED", "ID", Area::Input, Size::Dword),
-    an("AB", "QB", Area::Output, Size::Byte),
-    an("AW", "QW", Area::Output, Size::Word),
-    an("AD", "QD", Area::Output, Size::Dword),
-    an("MB", "MB", Area::Memory, Size::Byte),
-    an("MW", "MW", Area::Memory, Size::Word),
-    an("MD", "MD", Area::Memory, Size::Dword),
-    an("LB", "LB", Area::Local, Size::Byte),
-    an("LW", "LW", Area::Local, Size::Word),
-    an("LD", "LD", Area::Local, Size::Dword),
-    an("PE", "PI", Area::PeripheralInput, Size::Bit),
-    an("PA", "PQ", Area::PeripheralOutput, Size::Bit),
-    an("PEB", "PIB", Area::PeripheralInput, Size::Byte),
-    an("PEW", "PIW", Area::PeripheralInput, Size::Word),
-    an("PED", "PID", Area::PeripheralInput, Size::Dword),
-    an("PAB", "PQB", Area::PeripheralOutput, Size::Byte),
-    an("PAW", "PQW", Area::PeripheralOutput, Size::Word),
-    an("PAD", "PQD", Area::PeripheralOutput, Size::Dword),
-    an("DBX", "DBX", Area::DataBlock, Size::Bit),
-    an("DBB", "DBB", Area::DataBlock, Size::Byte),
-    an("DBW", "DBW", Area::DataBlock, Size::Word),
-    an("DBD", "DBD", Area::DataBlock, Size::Dword),
-    an("DIX", "DIX", Area::InstanceData, Size::Bit),
-    an("DIB", "DIB", Area::InstanceData, Size::Byte),
-    an("DIW", "DIW", Area::InstanceData, Size::Word),
-    an("DID", "DID", Area::InstanceData, Size::Dword),
-    an("T", "T", Area::Timer, Size::None),
-    an("Z", "C", Area::Counter, Size::None),
-    an("DB", "DB", Area::Block(BlockKind::Db), Size::None),
-    an("FC", "FC", Area::Block(BlockKind::Fc), Size::None),
-    an("FB", "FB", Area::Block(BlockKind::Fb), Size::None),
-    an("SFC", "SFC", Area::Block(BlockKind::Sfc), Size::None),
-    an("SFB", "SFB", Area::Block(BlockKind::Sfb), Size::None),
-    an("OB", "OB", Area::Block(BlockKind::Ob), Size::None),
-    an("UDT", "UDT", Area::Block(BlockKind::Udt), Size::None),
+    an("E", "I", Area::Input, Size::Bit, "input"),
+    an("A", "Q", Area::Output, Size::Bit, "output"),
+    an("M", "M", Area::Memory, Size::Bit, "bit memory"),
+    an("L", "L", Area::Local, Size::Bit, "local data"),
+    an("EB", "IB", Area::Input, Size::Byte, "input byte"),
+    an("EW", "IW", Area::Input, Size::Word, "input word"),
+    an("ED", "ID", Area::Input, Size::Dword, "input double word"),
+    an("AB", "QB", Area::Output, Size::Byte, "output byte"),
+    an("AW", "QW", Area::Output, Size::Word, "output word"),
+    an("AD", "QD", Area::Output, Size::Dword, "output double word"),
+    an("MB", "MB", Area::Memory, Size::Byte, "memory byte"),
+    an("MW", "MW", Area::Memory, Size::Word, "memory word"),
+    an("MD", "MD", Area::Memory, Size::Dword, "memory double word"),
+    an("LB", "LB", Area::Local, Size::Byte, "local data byte"),
+    an("LW", "LW", Area::Local, Size::Word, "local data word"),
+    an(
+        "LD",
+        "LD",
+        Area::Local,
+        Size::Dword,
+        "local data double word",
+    ),
+    an(
+        "PE",
+        "PI",
+        Area::PeripheralInput,
+        Size::Bit,
+        "peripheral input",
+    ),
+    an(
+        "PA",
+        "PQ",
+        Area::PeripheralOutput,
+        Size::Bit,
+        "peripheral output",
+    ),
+    an(
+        "PEB",
+        "PIB",
+        Area::PeripheralInput,
+        Size::Byte,
+        "peripheral input byte",
+    ),
+    an(
+        "PEW",
+        "PIW",
+        Area::PeripheralInput,
+        Size::Word,
+        "peripheral input word",
+    ),
+    an(
+        "PED",
+        "PID",
+        Area::PeripheralInput,
+        Size::Dword,
+        "peripheral input double word",
+    ),
+    an(
+        "PAB",
+        "PQB",
+        Area::PeripheralOutput,
+        Size::Byte,
+        "peripheral output byte",
+    ),
+    an(
+        "PAW",
+        "PQW",
+        Area::PeripheralOutput,
+        Size::Word,
+        "peripheral output word",
+    ),
+    an(
+        "PAD",
+        "PQD",
+        Area::PeripheralOutput,
+        Size::Dword,
+        "peripheral output double word",
+    ),
+    an("DBX", "DBX", Area::DataBlock, Size::Bit, "data block bit"),
+    an("DBB", "DBB", Area::DataBlock, Size::Byte, "data block byte"),
+    an("DBW", "DBW", Area::DataBlock, Size::Word, "data block word"),
+    an(
+        "DBD",
+        "DBD",
+        Area::DataBlock,
+        Size::Dword,
+        "data block double word",
+    ),
+    an(
+        "DIX",
+        "DIX",
+        Area::InstanceData,
+        Size::Bit,
+        "instance data block bit",
+    ),
+    an(
+        "DIB",
+        "DIB",
+        Area::InstanceData,
+        Size::Byte,
+        "instance data block byte",
+    ),
+    an(
+        "DIW",
+        "DIW",
+        Area::InstanceData,
+        Size::Word,
+        "instance data block word",
+    ),
+    an(
+        "DID",
+        "DID",
+        Area::InstanceData,
+        Size::Dword,
+        "instance data block double word",
+    ),
+    an("T", "T", Area::Timer, Size::None, "timer"),
+    an("Z", "C", Area::Counter, Size::None, "counter"),
+    an(
+        "DB",
+        "DB",
+        Area::Block(BlockKind::Db),
+        Size::None,
+        "data block",
+    ),
+    an(
+        "FC",
+        "FC",
+        Area::Block(BlockKind::Fc),
+        Size::None,
+        "function",
+    ),
+    an(
+        "FB",
+        "FB",
+        Area::Block(BlockKind::Fb),
+        Size::None,
+        "function block",
+    ),
+    an(
+        "SFC",
+        "SFC",
+        Area::Block(BlockKind::Sfc),
+        Size::None,
+        "system function",
+    ),
+    an(
+        "SFB",
+        "SFB",
+        Area::Block(BlockKind::Sfb),
+        Size::None,
+        "system function block",
+    ),
+    an(
+        "OB",
+        "OB",
+        Area::Block(BlockKind::Ob),
+        Size::None,
+        "organization block",
+    ),
+    an(
+        "UDT",
+        "UDT",
+        Area::Block(BlockKind::Udt),
+        Size::None,
+        "user-defined data type",
+    ),
 ];
 
 /// How an area identifier reads in a set.
@@ -163,6 +293,25 @@ fn find_area(word: &str, set: Mnemonic) -> Option<(&'static AreaName, AreaMatch)
 /// `PE`/`PA`)?
 pub fn is_area_word(word: &str, set: Mnemonic) -> bool {
     matches!(find_area(word, set), Some((a, AreaMatch::Active)) if !(a.size == Size::Bit && matches!(a.area, Area::PeripheralInput | Area::PeripheralOutput)))
+}
+
+/// Is `word` a bit area of `set` (`E A M L`, `DBX`, `DIX`, or the bare peripheral `PE`/`PA`)?
+pub fn is_bit_area(word: &str, set: Mnemonic) -> bool {
+    matches!(find_area(word, set), Some((a, AreaMatch::Active)) if a.size == Size::Bit)
+}
+
+/// For an address-area identifier of `set` (Appendix A.2): its upper-case spelling and what
+/// it means (`AB` → "output byte"), for HG4102.
+pub fn area_meaning(word: &str, set: Mnemonic) -> Option<(&'static str, &'static str)> {
+    if !is_area_word(word, set) {
+        return None;
+    }
+    let (area, _) = find_area(word, set)?;
+    let canonical = match set {
+        Mnemonic::Simatic => area.simatic,
+        Mnemonic::International => area.international,
+    };
+    Some((canonical, area.meaning))
 }
 
 /// A well-formed absolute address, normalised.
@@ -271,8 +420,8 @@ pub fn read(compact: &str, set: Mnemonic) -> Option<ReadAddress> {
     }
     if numbers.is_empty() {
         return finish(Err(AddressError::Malformed(format!(
-            "{} needs a number",
-            word
+            "the area {} needs a number",
+            word.to_ascii_uppercase()
         ))));
     }
     let (number_text, bit_text) = match numbers.split_once('.') {

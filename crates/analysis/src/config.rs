@@ -206,7 +206,11 @@ mod tests {
         assert_eq!(config.severity("HG0001"), Some(Severity::Error));
         let problems: Vec<&str> = config.problems.iter().map(|(_, p)| p.as_str()).collect();
         assert_eq!(problems.len(), 4, "{problems:?}");
-        let (r, _) = &config.problems[0];
+        let (r, _) = config
+            .problems
+            .iter()
+            .find(|(_, p)| p.contains("workspace.foo"))
+            .expect("the unknown key is reported");
         assert_eq!(&text[std::ops::Range::<usize>::from(*r)], "foo");
     }
 

@@ -555,6 +555,66 @@ pub fn is_jump_op(op: &str) -> bool {
         && OUTSIDE_SUBSET.contains(&upper.as_str())
 }
 
+/// How an opcode reads in a file's mnemonic set (HG4003, HG4007, HG4008).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum OpClass {
+    /// An operation of the HiGraph subset in the file's set; its SIMATIC name.
+    Subset(String),
+    /// An operation only of the other set's subset (HG4007): its SIMATIC name and its
+    /// spelling in the file's set.
+    OtherSet { simatic: String, translated: String },
+    /// A known STEP 7 operation outside the subset (Appendix A.3, HG4003).
+    Outside(OutsideKind),
+    /// Not an operation at all (HG4008).
+    Unknown,
+}
+
+/// Which message HG4003 uses for an operation outside the subset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutsideKind {
+    Jump,
+    BlockEnd,
+    Other,
+}
+
+/// Classifies an opcode (as written, any case) in `set`.
+pub fn classify_op(op: &str, set: Mnemonic) -> OpClass {
+    let upper = op.to_ascii_uppercase();
+    if let Some(simatic) = to_simatic_op(&upper, set) {
+        return OpClass::Subset(simatic);
+    }
+    if let Some(simatic) = to_simatic_op(&upper, set.other()) {
+        let translated = op_in_set(&simatic, set);
+        return OpClass::OtherSet {
+            simatic,
+            translated,
+        };
+    }
+    if OUTSIDE_SUBSET.contains(&upper.as_str()) {
+        let kind = if is_jump_op(&upper) {
+            OutsideKind::Jump
+        } else if BLOCK_END_OPS.contains(&upper.as_str()) {
+            OutsideKind::BlockEnd
+        } else {
+            OutsideKind::Other
+        };
+        return OpClass::Outside(kind);
+    }
+    OpClass::Unknown
+}
+
+/// Every operation of the subset spelled in `set` (for closest-name fixes of HG4008).
+pub fn subset_ops(set: Mnemonic) -> Vec<String> {
+    let mut ops: Vec<String> = SIMATIC_WORD_OPS
+        .iter()
+        .chain(SYMBOL_OPS)
+        .chain(&["U(", "UN("])
+        .map(|op| op_in_set(op, set))
+        .collect();
+    ops.dedup();
+    ops
+}
+
 /// Register and status operands (Appendix A.2b).
 pub fn is_register_name(name: &str, set: Mnemonic) -> bool {
     let upper = name.to_ascii_uppercase();
@@ -564,6 +624,32 @@ pub fn is_register_name(name: &str, set: Mnemonic) -> bool {
     common.contains(&upper.as_str())
         || (set == Mnemonic::Simatic && upper == "BIE")
         || (set == Mnemonic::International && upper == "BR")
+}
+
+/// Register and status names (Appendix A.2b) with what they mean: the upper-case spelling and
+/// the meaning (for HG4102).
+pub fn register_meaning(name: &str, set: Mnemonic) -> Option<(&'static str, &'static str)> {
+    const REGISTERS: &[(&str, &str)] = &[
+        ("STW", "status word"),
+        ("AR1", "address register 1"),
+        ("AR2", "address register 2"),
+        ("DBLG", "length of the open data block"),
+        ("DBNO", "number of the open data block"),
+        ("DILG", "length of the open instance data block"),
+        ("DINO", "number of the open instance data block"),
+        ("OV", "overflow bit"),
+        ("OS", "stored overflow bit"),
+        ("UO", "unordered bit"),
+        ("BIE", "binary result bit"),
+        ("BR", "binary result bit"),
+    ];
+    if !is_register_name(name, set) {
+        return None;
+    }
+    REGISTERS
+        .iter()
+        .find(|(r, _)| r.eq_ignore_ascii_case(name))
+        .map(|&(r, m)| (r, m))
 }
 
 /// A reserved word (HG1103) for `set`: returns what kind of reserved word it is.
@@ -637,6 +723,29 @@ mod tests {
         );
         assert_eq!(to_simatic_op("SPA", Mnemonic::Simatic), None);
         assert_eq!(op_in_set("ZV", Mnemonic::International), "CU");
+        assert_eq!(
+            classify_op("A", Mnemonic::Simatic),
+            OpClass::OtherSet {
+                simatic: "U".into(),
+                translated: "U".into()
+            }
+        );
+        assert_eq!(
+            classify_op("SD", Mnemonic::Simatic),
+            OpClass::OtherSet {
+                simatic: "SE".into(),
+                translated: "SE".into()
+            }
+        );
+        assert_eq!(
+            classify_op("SPA", Mnemonic::Simatic),
+            OpClass::Outside(OutsideKind::Jump)
+        );
+        assert_eq!(
+            classify_op("BEA", Mnemonic::Simatic),
+            OpClass::Outside(OutsideKind::BlockEnd)
+        );
+        assert_eq!(classify_op("FOO", Mnemonic::Simatic), OpClass::Unknown);
     }
 
     #[test]

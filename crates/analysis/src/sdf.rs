@@ -1,16 +1,24 @@
 //! Import of STEP 7 symbol tables in System Data Format (`tooling.md` §3): one symbol a line,
 //! four comma-separated double-quoted fields — symbol, address, data type, comment — each
-//! possibly padded with spaces. Bad lines are reported (HG6005) and skipped; unsupported data
-//! types are imported untyped (HG6007).
+//! possibly padded with spaces.
+//!
+//! * HG6005: a file that is missing, unreadable or not an `.sdf` export is reported on its
+//!   entry in `higraph.toml`; a line that cannot be read is reported on that line and skipped.
+//! * HG6007: a data type this language does not know (a UDT, ARRAY, STRUCT, ...) is imported
+//!   untyped.
+//!
+//! Addresses are read in the workspace's mnemonic set; those of the other set are translated.
+//! Lines end at LF, CR LF or a lone CR. The rules on the imported symbols themselves (HG6001,
+//! HG6002, HG6003, HG6006) are workspace rules in `rules::symbols`.
 
 use higraph_syntax::{TextRange, TextSize};
 
 use crate::{
-    address,
+    address::{self, Address, AddressError},
     db::{File, Workspace},
     diag::{Diag, Loc},
     index::{Symbol, SymbolSource},
-    lang::Type,
+    lang::{Mnemonic, Type},
 };
 
 /// An import as configured: the path written in `higraph.toml` and the loaded file (or why it
@@ -57,121 +65,228 @@ pub fn imported_tables(db: &dyn salsa::Database, ws: Workspace) -> Vec<ImportedT
     ws.imports(db)
         .iter()
         .enumerate()
-        .map(|(i, import)| match &import.file {
-            Ok(file) => parse_table(db, *file, i, mnemonic),
-            Err(reason) => {
-                let mut table = ImportedTable::default();
-                if let Some(config) = ws.config_file(db) {
-                    table.problems.push(Diag::new(
-                        "HG6005",
-                        Loc::in_file(config, import.entry),
-                        format!("cannot import symbol table {}: {reason}", import.path),
-                    ));
-                }
-                table
+        .map(|(i, import)| {
+            let problem = match &import.file {
+                Ok(file) => match unrecognised_format(import, file.contents(db).text()) {
+                    None => return parse_table(db, *file, i, mnemonic),
+                    Some(reason) => reason,
+                },
+                Err(reason) => reason.clone(),
+            };
+            let mut table = ImportedTable::default();
+            if let Some(config) = ws.config_file(db) {
+                table.problems.push(Diag::new(
+                    "HG6005",
+                    Loc::in_file(config, import.entry),
+                    format!("cannot import symbol table {}: {problem}", import.path),
+                ));
             }
+            table
         })
         .collect()
+}
+
+/// Why a loaded file is not a symbol table export this importer reads: a file that is not an
+/// `.sdf` export (STEP 7's `.asc`, `.dif` and `.seq` formats are not supported), or binary data.
+fn unrecognised_format(import: &Import, text: &str) -> Option<String> {
+    let is_sdf = import
+        .path
+        .rsplit_once('.')
+        .is_some_and(|(_, ext)| ext.eq_ignore_ascii_case("sdf"));
+    if !is_sdf {
+        return Some(
+            "the format is not recognised (expected a STEP 7 symbol table export in System Data Format, .sdf)"
+                .to_owned(),
+        );
+    }
+    text.contains('\0')
+        .then(|| "the format is not recognised (the file contains binary data)".to_owned())
+}
+
+/// The lines of a text with their start offsets, without line breaks (LF, CR LF or a lone CR
+/// end a line).
+fn lines(text: &str) -> Vec<(usize, &str)> {
+    let mut lines = Vec::new();
+    let bytes = text.as_bytes();
+    let mut start = 0;
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\n' => {
+                lines.push((start, &text[start..i]));
+                start = i + 1;
+            }
+            b'\r' => {
+                lines.push((start, &text[start..i]));
+                if bytes.get(i + 1) == Some(&b'\n') {
+                    i += 1;
+                }
+                start = i + 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    if start < text.len() {
+        lines.push((start, &text[start..]));
+    }
+    lines
 }
 
 fn parse_table(
     db: &dyn salsa::Database,
     file: File,
     import: usize,
-    mnemonic: crate::lang::Mnemonic,
+    mnemonic: Mnemonic,
 ) -> ImportedTable {
-    let text = file.contents(db).text().to_owned();
+    let text = file.contents(db).text();
     let path = file.path(db).clone();
     let mut table = ImportedTable::default();
-    let mut offset = 0usize;
-    for (n, raw_line) in text.split_inclusive('\n').enumerate() {
-        let line_start = offset;
-        offset += raw_line.len();
-        let line = raw_line.trim_end_matches(['\n', '\r']);
+    for (n, (line_start, line)) in lines(text).into_iter().enumerate() {
         if line.trim().is_empty() {
             continue;
         }
         let range = TextRange::new(size(line_start), size(line_start + line.len()));
         let loc = Loc::in_file(file, range);
-        let line_no = n + 1;
-        let fields = match split_fields(line) {
-            Ok(fields) if fields.len() == 4 => fields,
-            Ok(fields) => {
-                table.problems.push(Diag::new(
-                    "HG6005",
-                    loc,
-                    format!(
-                        "line {line_no} of {path} cannot be read: expected 4 fields, found {}",
-                        fields.len()
-                    ),
-                ));
-                continue;
-            }
-            Err(reason) => {
-                table.problems.push(Diag::new(
-                    "HG6005",
-                    loc,
-                    format!("line {line_no} of {path} cannot be read: {reason}"),
-                ));
-                continue;
-            }
-        };
-        let [name, address_text, type_text, comment] =
-            [&fields[0], &fields[1], &fields[2], &fields[3]];
-        if name.is_empty() {
-            table.problems.push(Diag::new(
+        let bad_line = |reason: String| {
+            Diag::new(
                 "HG6005",
                 loc,
-                format!("line {line_no} of {path} cannot be read: the symbol name is empty"),
-            ));
-            continue;
-        }
-        let compact: String = address_text.split_whitespace().collect();
-        let read = address::read(&compact, mnemonic)
-            .or_else(|| address::read(&compact, mnemonic.other()))
-            .and_then(|r| r.address.ok());
-        let Some(address) = read else {
-            table.problems.push(Diag::new(
-                "HG6005",
-                loc,
-                format!(
-                    "line {line_no} of {path} cannot be read: '{address_text}' is not an address"
-                ),
-            ));
-            continue;
+                format!("line {} of {path} cannot be read: {reason}", n + 1),
+            )
         };
-        let ty = if type_text.is_empty() {
-            Some(address.ty())
-        } else {
-            match Type::from_name(type_text, false) {
-                Some(ty) => Some(ty),
-                None => {
+        match parse_line(line, mnemonic) {
+            Ok(line) => {
+                if let Some(type_text) = &line.unsupported_type {
                     table.problems.push(Diag::new(
                         "HG6007",
                         loc,
                         format!(
-                            "imported symbol '{name}' has data type {type_text}, which is not supported; it is treated as untyped"
+                            "imported symbol '{}' has data type {type_text}, which is not supported; it is treated as untyped",
+                            line.name
                         ),
                     ));
-                    None
                 }
+                table.symbols.push(Symbol {
+                    name: line.name,
+                    quoted: true,
+                    source: SymbolSource::Imported(import),
+                    name_loc: loc,
+                    address_text: line.address_text,
+                    address_loc: loc,
+                    address: Some(line.address),
+                    type_loc: None,
+                    ty: line.ty,
+                    type_text: line.type_text,
+                    comment: line.comment,
+                });
             }
-        };
-        table.symbols.push(Symbol {
-            name: name.clone(),
-            quoted: true,
-            source: SymbolSource::Imported(import),
-            name_loc: loc,
-            address_text: address_text.clone(),
-            address_loc: loc,
-            address: Some(address),
-            type_text: (!type_text.is_empty()).then(|| type_text.clone()),
-            type_loc: None,
-            ty,
-            comment: (!comment.is_empty()).then(|| comment.clone()),
-        });
+            Err(reason) => table.problems.push(bad_line(reason)),
+        }
     }
     table
+}
+
+/// One symbol line of an export.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Line {
+    name: String,
+    address_text: String,
+    address: Address,
+    /// The data type field, if not empty.
+    type_text: Option<String>,
+    /// The type: the data type, else the address's; `None` if unsupported.
+    ty: Option<Type>,
+    /// The data type field if it names a type this language does not support (HG6007).
+    unsupported_type: Option<String>,
+    comment: Option<String>,
+}
+
+/// Reads one line: four quoted fields — symbol, address, data type, comment.
+fn parse_line(text: &str, mnemonic: Mnemonic) -> Result<Line, String> {
+    let fields = split_fields(text)?;
+    let [name, address_text, type_text, comment] = <[String; 4]>::try_from(fields)
+        .map_err(|fields| format!("expected 4 fields, found {}", fields.len()))?;
+    if name.is_empty() {
+        return Err("the symbol name is empty".to_owned());
+    }
+    let address = read_address(&address_text, mnemonic)?;
+    let (ty, unsupported_type) = data_type(&type_text, &address, mnemonic);
+    Ok(Line {
+        name,
+        address,
+        ty,
+        unsupported_type,
+        type_text: (!type_text.is_empty()).then(|| type_text.clone()),
+        comment: (!comment.is_empty()).then_some(comment),
+        address_text,
+    })
+}
+
+/// Reads the address field in the workspace's set; addresses of the other set are
+/// translated (`diagnostics.md` §2.7a).
+fn read_address(text: &str, mnemonic: Mnemonic) -> Result<Address, String> {
+    let compact: String = text.split_whitespace().collect();
+    let read =
+        address::read(&compact, mnemonic).or_else(|| address::read(&compact, mnemonic.other()));
+    match read.map(|r| r.address) {
+        Some(Ok(address)) => Ok(address),
+        Some(Err(AddressError::Malformed(reason))) => {
+            Err(format!("'{text}' is not a valid address: {reason}"))
+        }
+        Some(Err(AddressError::BitOutOfRange { bit, .. })) => Err(format!(
+            "'{text}' is not a valid address: bit number {bit} is outside 0..7"
+        )),
+        Some(Err(AddressError::NeedsDb)) => Err(format!(
+            "'{text}' is not a valid address: it needs a data block number"
+        )),
+        Some(Err(AddressError::InstanceDb)) => Err(format!(
+            "'{text}' is not a valid address: instance-DB operands are not available"
+        )),
+        None => Err(format!("'{text}' is not an address")),
+    }
+}
+
+/// The type of an imported symbol and, if the data type is not supported, its text. An empty
+/// data type means the address's type; a block symbol's data type names a block (`FC 1`,
+/// `UDT 5` for a DB), which gives the block type.
+fn data_type(text: &str, address: &Address, mnemonic: Mnemonic) -> (Option<Type>, Option<String>) {
+    if text.is_empty() {
+        return (Some(address.ty()), None);
+    }
+    if address.block_kind().is_some() && is_block_reference(text, mnemonic) {
+        return (Some(Type::Block), None);
+    }
+    match parse_type(text) {
+        Some(ty) => (Some(ty), None),
+        None => (None, Some(text.to_owned())),
+    }
+}
+
+/// `FC 1`, `UDT 5`, `VAT 1`: the data type STEP 7 exports for block symbols.
+fn is_block_reference(text: &str, mnemonic: Mnemonic) -> bool {
+    let compact: String = text.split_whitespace().collect();
+    let is_vat = compact
+        .get(..3)
+        .is_some_and(|p| p.eq_ignore_ascii_case("VAT"))
+        && compact.len() > 3
+        && compact[3..].bytes().all(|b| b.is_ascii_digit());
+    is_vat
+        || address::read(&compact, mnemonic)
+            .and_then(|r| r.address.ok())
+            .is_some_and(|a| a.block_kind().is_some())
+}
+
+/// A type name of the language, `STRING[n]` included.
+fn parse_type(text: &str) -> Option<Type> {
+    let compact: String = text.split_whitespace().collect();
+    if let Some(ty) = Type::from_name(&compact, false) {
+        return Some(ty);
+    }
+    let upper = compact.to_ascii_uppercase();
+    let length = upper.strip_prefix("STRING[")?.strip_suffix(']')?;
+    let n: u16 = length.parse().ok()?;
+    (1..=254).contains(&n).then_some(Type::String(n))
 }
 
 /// Splits `"a","b" , "c","d"` into trimmed field values.
@@ -222,7 +337,39 @@ mod tests {
 
     #[test]
     fn decodes_windows_1252() {
-        assert_eq!(decode(b"\xC4\x80"), "Ä€");
+        // `C4 20 80` is not UTF-8 (a lead byte followed by a space).
+        assert_eq!(decode(b"\xC4 \x80"), "Ä €");
         assert_eq!(decode("Ä".as_bytes()), "Ä");
+        assert_eq!(decode("\u{FEFF}x".as_bytes()), "x");
+    }
+
+    #[test]
+    fn splits_lines_at_every_line_break() {
+        assert_eq!(
+            lines("a\r\nb\rc\n\nd"),
+            vec![(0, "a"), (3, "b"), (5, "c"), (7, ""), (8, "d")]
+        );
+        assert_eq!(lines(""), Vec::<(usize, &str)>::new());
+    }
+
+    #[test]
+    fn reads_lines_of_both_mnemonic_sets() {
+        let set = Mnemonic::Simatic;
+        let line = parse_line(r#""Motor","Q   4.0","BOOL","""#, set).expect("line");
+        assert_eq!(line.address.display(set), "A 4.0");
+        assert_eq!(line.ty, Some(Type::Bool));
+        let block = parse_line(r#""GG","FC   1","FC   1","""#, set).expect("line");
+        assert_eq!(
+            (block.ty, block.unsupported_type),
+            (Some(Type::Block), None)
+        );
+        let udt = parse_line(r#""Rezept","MD 20","UDT 7","""#, set).expect("line");
+        assert_eq!(udt.ty, None);
+        assert_eq!(udt.unsupported_type.as_deref(), Some("UDT 7"));
+        let untyped = parse_line(r#""Wert","MW 2","","""#, set).expect("line");
+        assert_eq!(untyped.ty, Some(Type::Word));
+        assert!(parse_line(r#""Band","A 4.1","BOOL""#, set).is_err());
+        assert!(parse_line(r#""Band","X 4.1","BOOL","""#, set).is_err());
+        assert!(parse_line(r#""","A 4.1","BOOL","""#, set).is_err());
     }
 }

@@ -23,7 +23,11 @@ fn rows(text: &str) -> BTreeMap<String, (String, bool)> {
     let mut rows = BTreeMap::new();
     for line in text.lines() {
         let cells: Vec<&str> = line.split('|').map(str::trim).collect();
-        if cells.len() < 3 || !cells[1].starts_with("HG") || cells[1].len() != 6 {
+        let is_code = cells.len() >= 3
+            && cells[1].len() == 6
+            && cells[1].starts_with("HG")
+            && cells[1][2..].bytes().all(|b| b.is_ascii_digit());
+        if !is_code {
             continue;
         }
         let severity = cells[2];

@@ -1,12 +1,99 @@
-//! Graph declarations and structure: HG1201–HG1206, HG1211–HG1213, HG1215, HG2xxx,
-//! HG3001–HG3003, HG3007, HG3101, HG3102.
+//! State graphs: declarations and structure.
+//!
+//! * `decls` — HG1201–HG1206, HG1211–HG1213, HG1215 (graph and `block` interface
+//!   declarations, `activate`);
+//! * `structure` — HG2001, HG2002, HG2101–HG2106 (limits, state numbers, endpoints);
+//! * `startup` — HG2201–HG2203, HG2401, HG2402 (startup transition, reachability);
+//! * `priority` — HG2301–HG2306 (priorities per range, §2.6);
+//! * `modes` — HG3001–HG3003, HG3007, HG3101, HG3102 (wait times, operating modes);
+//! * `model` — the graph as these rules see it, and [`effective_priorities`] for the
+//!   formatter.
+//!
+//! Time values themselves (HG3004–HG3006, HG3008) are checked with the STL operands.
 
-use higraph_syntax::ast;
+mod decls;
+mod edit;
+mod model;
+mod modes;
+mod priority;
+mod startup;
+mod structure;
 
+use higraph_syntax::{ast, ast::AstNode};
+
+// Re-exported for the formatter; `rules/mod.rs` has to make `graph` visible to it.
+#[allow(unused_imports)]
+pub use self::model::effective_priorities;
+use self::{decls::Owner, model::GraphModel};
 use super::Ctx;
 
-pub(crate) fn check(_ctx: &mut Ctx<'_>, _graph: &ast::Graph) {}
+/// Runs every graph rule of this module on one graph.
+pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
+    let name = graph.name().map(|n| n.text()).unwrap_or_default();
+    let sections: Vec<ast::VarSection> = graph.var_sections().collect();
+    decls::check_sections(
+        ctx,
+        &sections,
+        Owner::Graph(graph),
+        &format!("graph {name}"),
+    );
+    decls::check_activate(ctx, graph);
+    let model = GraphModel::new(graph);
+    structure::check(ctx, graph, &model);
+    startup::check(ctx, graph, &model);
+    priority::check(ctx, &model);
+    modes::check(ctx, graph, &model);
+}
 
-/// Declaration rules inside `block` interfaces (HG1201, HG1203, HG1205, HG1206, HG1213,
-/// HG1215).
-pub(crate) fn check_block_interface(_ctx: &mut Ctx<'_>, _interface: &ast::BlockInterface) {}
+/// Declaration rules inside `block` interfaces (HG1201, HG1203–HG1206, HG1213, HG1215, with
+/// POINTER, ANY and the block types allowed).
+pub(crate) fn check_block_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInterface) {
+    let reference = interface
+        .block()
+        .map(|b| b.syntax().text().to_string())
+        .unwrap_or_default();
+    let sections: Vec<ast::VarSection> = interface.var_sections().collect();
+    decls::check_sections(
+        ctx,
+        &sections,
+        Owner::BlockInterface,
+        &format!("block {reference}"),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn priorities(text: &str) -> Vec<Option<u64>> {
+        let parse = higraph_syntax::parse(text);
+        let Some(ast::Item::Graph(graph)) = parse.tree().items().next() else {
+            return Vec::new();
+        };
+        effective_priorities(&graph)
+    }
+
+    #[test]
+    fn implicit_priorities_follow_section_2_6() {
+        // Range of state 0: implicit, explicit 1, implicit, explicit 3, implicit.
+        let text = "graph G < state 0 < > state 1 < > \
+                    trans 0->1 < > trans 0->1 prio 1 < > trans 0->1 < > \
+                    trans 0->1 prio 3 < > trans 0->1 < > \
+                    trans any->0 < > trans any->1 prio 1 < > \
+                    trans 5->0 < > trans return->0 < > >";
+        assert_eq!(
+            priorities(text),
+            vec![
+                Some(2),
+                Some(1),
+                Some(4),
+                Some(3),
+                Some(5),
+                Some(2),
+                Some(1),
+                None,
+                None
+            ]
+        );
+    }
+}

@@ -196,13 +196,27 @@ fn check_name(ctx: &mut Ctx<'_>, root: &SyntaxNode, name: Option<ast::Name>, ns:
     if text.ends_with('_') {
         let message = format!("name '{text}' must not end with '_'");
         let new_name = text.trim_end_matches('_');
-        let diag = with_rename(ctx, ctx.diag("HG1101", range, message), root, &token, new_name, ns);
+        let diag = with_rename(
+            ctx,
+            ctx.diag("HG1101", range, message),
+            root,
+            &token,
+            new_name,
+            ns,
+        );
         ctx.push(diag);
     }
     if text.contains("__") {
         let message = format!("name '{text}' must not contain '__'");
         let new_name = collapse_underscores(text);
-        let diag = with_rename(ctx, ctx.diag("HG1102", range, message), root, &token, &new_name, ns);
+        let diag = with_rename(
+            ctx,
+            ctx.diag("HG1102", range, message),
+            root,
+            &token,
+            &new_name,
+            ns,
+        );
         ctx.push(diag);
     }
     if let Some(kind) = lang::reserved_kind(text, ctx.mnemonic) {
@@ -282,7 +296,8 @@ fn is_free(ctx: &Ctx<'_>, new_name: &str, old_name: &str, ns: &Namespace) -> boo
 
 /// The references to a declared name inside `root` that a rename updates.
 fn references(root: &SyntaxNode, name: &str, ns: &Namespace) -> Vec<TextRange> {
-    let same = |t: &SyntaxToken| t.kind() == SyntaxKind::IDENT && t.text().eq_ignore_ascii_case(name);
+    let same =
+        |t: &SyntaxToken| t.kind() == SyntaxKind::IDENT && t.text().eq_ignore_ascii_case(name);
     let mut out = Vec::new();
     for node in root.descendants() {
         let Some(parent) = node.parent() else {

@@ -1,8 +1,305 @@
-//! STL in graphs: operand resolution (§2.4), HG1104, HG1207–HG1210, HG1214, HG3004–HG3006,
-//! HG3008 and HG4xxx.
+//! STL in graphs: operand resolution (§2.4, via [`crate::resolve`]) and the rules about
+//! instruction bodies, statements, operands, calls and time values.
+//!
+//! | module        | codes |
+//! |---------------|-------|
+//! | this file     | HG4001, HG4002 (labels), HG4005, HG4006 (brackets), HG1210 (unused) |
+//! | `statement`   | HG4003, HG4004, HG4007, HG4008, HG4201–HG4207, HG4402 |
+//! | `access`      | HG1209, HG1214, HG4401, HG4403 |
+//! | `call`        | HG4301–HG4308 |
+//! | `time`        | HG3004, HG3006, HG3008 (shared with charts) |
+//! | `transitions` | transition labels with implicit priorities (§2.3, §2.6) |
+//! | `resolve`     | HG1104, HG1207, HG1208, HG3005, HG4009–HG4012, HG4101–HG4103 |
 
-use higraph_syntax::ast;
+use higraph_syntax::{SyntaxKind, TextRange, ast, ast::AstNode};
 
 use super::Ctx;
+use crate::resolve::{self, GraphScope, Role, Usage};
 
-pub(crate) fn check(_ctx: &mut Ctx<'_>, _graph: &ast::Graph) {}
+mod access;
+mod call;
+mod statement;
+pub(crate) mod time;
+mod transitions;
+
+use statement::{Analyzed, Place};
+
+/// Checks the STL of one graph: every state, transition and `permanent` body, then HG1210.
+pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
+    let mut scope = GraphScope::new(graph);
+    let labels = transitions::labels(graph);
+    let mut transition = 0;
+    for member in graph.members() {
+        match member {
+            ast::GraphMember::State(state) => {
+                let number = state
+                    .number()
+                    .map(|t| t.text().to_owned())
+                    .unwrap_or_default();
+                if let Some(body) = state.body() {
+                    check_body(ctx, &mut scope, &body, &BodyKind::State { number });
+                }
+            }
+            ast::GraphMember::Trans(trans) => {
+                let label = labels.get(transition).cloned().unwrap_or_default();
+                transition += 1;
+                if let Some(body) = trans.body() {
+                    check_body(ctx, &mut scope, &body, &BodyKind::Transition { label });
+                }
+            }
+            ast::GraphMember::Permanent(permanent) => {
+                if let Some(body) = permanent.body() {
+                    check_body(ctx, &mut scope, &body, &BodyKind::Permanent);
+                }
+            }
+            ast::GraphMember::VarSection(_) | ast::GraphMember::Activate(_) => {}
+        }
+    }
+    report_unused(ctx, &scope);
+}
+
+/// Which kind of instruction body is being checked.
+enum BodyKind {
+    State { number: String },
+    Transition { label: String },
+    Permanent,
+}
+
+impl BodyKind {
+    /// The labels allowed in this body (HG4002), as written in messages.
+    fn allowed_labels(&self) -> &'static [&'static str] {
+        match self {
+            BodyKind::State { .. } => &["E", "C-", "C", "X"],
+            BodyKind::Transition { .. } => &["?", "!"],
+            BodyKind::Permanent => &["C-", "C"],
+        }
+    }
+
+    fn description(&self) -> &'static str {
+        match self {
+            BodyKind::State { .. } => "a state",
+            BodyKind::Transition { .. } => "a transition",
+            BodyKind::Permanent => "permanent instructions",
+        }
+    }
+}
+
+fn check_body(ctx: &mut Ctx<'_>, scope: &mut GraphScope, body: &ast::Body, kind: &BodyKind) {
+    for item in body.body_items() {
+        match item {
+            ast::BodyItem::Block(block) => check_block(ctx, scope, &block, kind),
+            ast::BodyItem::Wait(wait) => {
+                let range = wait.syntax().text_range();
+                if let Some(value) = wait.value() {
+                    check_time_item(ctx, scope, &value, time::TimeKind::Wait, range);
+                }
+            }
+            ast::BodyItem::Supervise(supervise) => {
+                let range = supervise.syntax().text_range();
+                if let Some(value) = supervise.value() {
+                    check_time_item(ctx, scope, &value, time::TimeKind::Supervision, range);
+                }
+            }
+        }
+    }
+}
+
+/// One block: its label (HG4001, HG4002), its statements and its brackets (HG4005, HG4006).
+fn check_block(ctx: &mut Ctx<'_>, scope: &mut GraphScope, block: &ast::Block, kind: &BodyKind) {
+    let label = block.label();
+    let label_name = label.as_ref().map(|l| l.name());
+    match &label {
+        None => unlabelled_statements(ctx, block, kind),
+        Some(label) => check_label(ctx, label, kind),
+    }
+    let condition_of = match kind {
+        BodyKind::Transition { label } if matches!(label_name.as_deref(), None | Some("?")) => {
+            Some(label.as_str())
+        }
+        _ => None,
+    };
+    let place = Place { condition_of };
+    let mut brackets = Brackets::default();
+    for stmt in block.statements() {
+        if let Some(analyzed) = statement::check(ctx, scope, &stmt, &place) {
+            brackets.step(ctx, &analyzed);
+        }
+    }
+    let end = block
+        .statements()
+        .last()
+        .map_or(block.syntax().text_range().end(), |s| {
+            s.syntax().text_range().end()
+        });
+    brackets.finish(ctx, end);
+}
+
+/// HG4001: statements before the first label of a state or of `permanent`.
+fn unlabelled_statements(ctx: &mut Ctx<'_>, block: &ast::Block, kind: &BodyKind) {
+    let message = match kind {
+        BodyKind::State { number } => format!(
+            "statement outside an instruction block: state {number} needs a label such as 'C:' before it"
+        ),
+        BodyKind::Permanent => "statement outside an instruction block: permanent instructions need 'C-:' or 'C:' before it".to_owned(),
+        BodyKind::Transition { .. } => return,
+    };
+    let ranges: Vec<TextRange> = block
+        .statements()
+        .filter_map(|s| statement_range(&s))
+        .collect();
+    let (Some(first), Some(last)) = (ranges.first(), ranges.last()) else {
+        return;
+    };
+    let range = first.cover(*last);
+    let diag = ctx.diag("HG4001", range, message).fix(
+        "Insert 'C:'",
+        ctx.loc(TextRange::empty(first.start())),
+        "C: ",
+    );
+    ctx.push(diag);
+}
+
+/// HG4002: a label that is not allowed in this kind of body.
+fn check_label(ctx: &mut Ctx<'_>, label: &ast::Label, kind: &BodyKind) {
+    let allowed = kind.allowed_labels();
+    let name = label.name();
+    if allowed.contains(&name.as_str()) {
+        return;
+    }
+    let list = allowed
+        .iter()
+        .map(|l| format!("'{l}:'"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let written = label.syntax().text().to_string();
+    let message = format!(
+        "label '{written}' is not allowed in {}; allowed: {list}",
+        kind.description()
+    );
+    let diag = ctx.diag("HG4002", label.syntax().text_range(), message);
+    ctx.push(diag);
+}
+
+/// The nesting stack of one block (HG4005, HG4006).
+#[derive(Default)]
+struct Brackets {
+    open: Vec<(String, TextRange)>,
+}
+
+/// The nesting stack holds at most this many entries (HG4005).
+const NESTING_LIMIT: usize = 7;
+
+impl Brackets {
+    fn step(&mut self, ctx: &mut Ctx<'_>, analyzed: &Analyzed) {
+        match analyzed.op.as_str() {
+            "U(" | "UN(" | "O(" | "ON(" | "X(" | "XN(" => {
+                self.open
+                    .push((analyzed.display.clone(), analyzed.opcode_range));
+                let depth = self.open.len();
+                if depth > NESTING_LIMIT {
+                    let message = format!(
+                        "bracket nesting depth {depth} exceeds the 7-entry nesting stack; the original compiler does not check this"
+                    );
+                    let diag = ctx.diag("HG4005", analyzed.opcode_range, message);
+                    ctx.push(diag);
+                }
+            }
+            // The guard pops the matching bracket; only an unmatched `)` reaches the body.
+            ")" if self.open.pop().is_none() => {
+                let diag = ctx.diag(
+                    "HG4006",
+                    analyzed.opcode_range,
+                    "')' has no matching opening bracket",
+                );
+                ctx.push(diag);
+            }
+            _ => {}
+        }
+    }
+
+    /// HG4006 (b): brackets still open at the end of the block (`end`).
+    fn finish(self, ctx: &mut Ctx<'_>, end: higraph_syntax::TextSize) {
+        for (op, range) in self.open {
+            let message = format!("'{op}' is not closed before the end of the block");
+            let diag = ctx.diag("HG4006", range, message).fix(
+                "Insert ');' at the end of the block",
+                ctx.loc(TextRange::empty(end)),
+                " );",
+            );
+            ctx.push(diag);
+        }
+    }
+}
+
+/// A `wait` or `supervise` item: resolution, then the time rules.
+fn check_time_item(
+    ctx: &mut Ctx<'_>,
+    scope: &mut GraphScope,
+    value: &ast::Operand,
+    kind: time::TimeKind,
+    item: TextRange,
+) {
+    if statement::forbidden_operand(ctx, scope, value) {
+        return;
+    }
+    let usage = Usage {
+        role: Role::TimeValue,
+        implied: None,
+    };
+    let resolved = resolve::resolve_operand(ctx, scope, value, usage);
+    if let Some((range, area)) = &resolved.other_set {
+        statement::other_set_diag(ctx, *range, area, None);
+    }
+    access::check(ctx, scope, &resolved, access::Access::Read, None);
+    if resolved.target.is_some() || matches!(value, ast::Operand::Literal(_)) {
+        time::check_time_value(ctx, value, resolved.ty, kind, Some(item));
+    }
+}
+
+/// HG1210: declared variables and activated predefined variables that no operand uses.
+fn report_unused(ctx: &mut Ctx<'_>, scope: &GraphScope) {
+    for (var, used) in scope.vars.iter().zip(&scope.used_vars) {
+        if *used {
+            continue;
+        }
+        let message = format!("variable '{}' is never used in {}", var.name, scope.owner());
+        let mut diag = ctx.diag("HG1210", var.name_range, message);
+        if var.section == crate::lang::Section::Stat {
+            diag = diag.fix(
+                format!("Remove the declaration of '{}'", var.name),
+                ctx.loc(var.decl_range),
+                "",
+            );
+        }
+        ctx.push(diag);
+    }
+    let mut seen = std::collections::HashSet::new();
+    for name in &scope.activated {
+        let Some(predefined) = crate::lang::predefined(&name.text) else {
+            continue;
+        };
+        if !seen.insert(predefined.name) || scope.used_predefined.contains(predefined.name) {
+            continue;
+        }
+        let message = format!("'{}' is activated but never used", name.text);
+        let removal = name.sole_in.unwrap_or(name.removal);
+        let diag = ctx.diag("HG1210", name.range, message).fix(
+            format!("Remove '{}' from 'activate'", name.text),
+            ctx.loc(removal),
+            "",
+        );
+        ctx.push(diag);
+    }
+}
+
+/// The statement range of §2.3: its first token through the last token before its `;`.
+pub(crate) fn statement_range(stmt: &ast::StlStmt) -> Option<TextRange> {
+    let mut tokens = stmt
+        .syntax()
+        .descendants_with_tokens()
+        .filter_map(|e| e.into_token())
+        .filter(|t| !t.kind().is_trivia() && t.kind() != SyntaxKind::SEMI);
+    let first = tokens.next()?;
+    let last = tokens.last().unwrap_or_else(|| first.clone());
+    Some(first.text_range().cover(last.text_range()))
+}

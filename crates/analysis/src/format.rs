@@ -1,0 +1,1345 @@
+//! The canonical layout of `tooling.md` §2a: `higraph-lsp fmt` and LSP formatting.
+//!
+//! [`format`] rebuilds a file from its syntax tree. The layout rules:
+//!
+//! * two spaces of indentation per open `<`; one member per line (declaration, state,
+//!   transition, instance, actual, symbol, option, step, condition, statement, …);
+//! * blank lines between members are kept, at most one; blank lines right after a `<` and
+//!   right before a `>` are dropped;
+//! * comments stay where they are: a comment at the end of a line stays at the end of that
+//!   line, a comment on its own line stays on its own line (indented like the member after
+//!   it). A comment inside a construct that would otherwise go on one line makes it multi-line;
+//! * keywords in lower case; STL operations, block labels, action qualifiers, address areas and
+//!   the known type names in upper case; everything else (identifiers, strings, constants)
+//!   exactly as written. Mnemonics are not translated (that is the HG4007 quick fix);
+//! * a state, transition or `permanent` body holding at most one item (a block with at most
+//!   one statement, or a `wait`/`supervise` item) stays on the header's line:
+//!   `state 4 "Auf" < C: = Auf; >`; otherwise each label goes on its own line with its
+//!   statements below it, indented once more;
+//! * a variable section stays on one line when it fits in [`MAX_WIDTH`] columns;
+//! * transition headers are `trans A->B prio N [auto] [manual] [waits] [fault] ["name"]`, with
+//!   the implicit priority (diagnostics.md §2.6, [`implicit_priorities`]) written out; state
+//!   headers are `state N ["name"] [fault] [message]` (attributes keep their order);
+//! * `:=` of the actuals of an instance and `:` of the symbols of a table are aligned (over
+//!   the whole block);
+//! * one space around `:=` and `:`, none around `->`, none before `;` and `,`, one after `,`;
+//! * charts (decisions where the spec is silent): a step, transition, jump, loop, `start`,
+//!   `pre`, `post`, `init`, `run` or `term` body holding at most one entry (condition,
+//!   statement, step item) stays on one line, like state bodies; sequencers, `parallel`,
+//!   `alt`, `branch`, graphs, groups, instances, symbol tables and block interfaces are always
+//!   one member per line; an empty body is written `< >`.
+//!
+//! Line endings: the output uses the line ending of the input's first line break (CR LF or
+//! LF; a file without line breaks, or with a lone CR first, gets LF), so Windows files stay
+//! Windows files. A leading byte-order mark is kept. The output ends with one line break.
+//!
+//! The formatter refuses a file with syntax errors ([`FormatError::Syntax`]). It checks its
+//! own result: the output must parse without errors and have the same significant tokens, with
+//! the same parent nodes, as the input (modulo the case changes above, the order of header
+//! clauses and the priorities written out); otherwise it returns [`FormatError::Internal`]
+//! and the caller keeps the input. So formatting never loses a token or changes the meaning.
+
+use std::collections::{HashMap, HashSet};
+use std::fmt;
+
+use higraph_syntax::{
+    SyntaxElement, SyntaxError, SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken, TextSize,
+    ast::{self, AstNode, EndpointKind},
+    parse,
+    rowan::NodeOrToken,
+};
+
+/// Variable sections wider than this stay on one line only if they fit.
+pub const MAX_WIDTH: usize = 100;
+
+/// One level of indentation.
+const INDENT: &str = "  ";
+
+/// Why a file was not formatted.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FormatError {
+    /// The file has syntax errors (HG0xxx); it is left as it is.
+    Syntax(Vec<SyntaxError>),
+    /// The formatter's result failed its own check (a bug); the file is left as it is.
+    Internal(String),
+}
+
+impl fmt::Display for FormatError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FormatError::Syntax(errors) => match errors.len() {
+                1 => f.write_str("the file has a syntax error"),
+                n => write!(f, "the file has {n} syntax errors"),
+            },
+            FormatError::Internal(reason) => write!(f, "internal formatter error: {reason}"),
+        }
+    }
+}
+
+impl std::error::Error for FormatError {}
+
+/// Formats a whole file in the canonical layout. Idempotent: formatting the result again
+/// gives the same text.
+pub fn format(text: &str) -> Result<String, FormatError> {
+    let parsed = parse(text);
+    if !parsed.errors().is_empty() {
+        return Err(FormatError::Syntax(parsed.errors().to_vec()));
+    }
+    let root = parsed.syntax_node();
+    let tokens = TokenTable::new(&root);
+    let prios = file_priorities(&root);
+    let mut formatter = Formatter {
+        tokens: &tokens,
+        prios: &prios,
+        em: Emitter::new(&tokens),
+    };
+    formatter.source_file(&root);
+    let body = formatter.em.finish()?;
+
+    let mut out = String::with_capacity(body.len() + 16);
+    if text.starts_with('\u{FEFF}') {
+        out.push('\u{FEFF}');
+    }
+    if uses_crlf(text) {
+        out.push_str(&body.replace('\n', "\r\n"));
+    } else {
+        out.push_str(&body);
+    }
+    verify(&root, &prios, &out)?;
+    Ok(out)
+}
+
+/// Does the input's first line break use CR LF?
+fn uses_crlf(text: &str) -> bool {
+    text.find(['\r', '\n'])
+        .is_some_and(|at| text[at..].starts_with("\r\n"))
+}
+
+/// The self-check of [`format`]: the output parses cleanly and carries the same significant
+/// tokens as the input.
+fn verify(
+    root: &SyntaxNode,
+    prios: &HashMap<TextSize, u64>,
+    output: &str,
+) -> Result<(), FormatError> {
+    let reparsed = parse(output);
+    if let Some(error) = reparsed.errors().first() {
+        return Err(FormatError::Internal(format!(
+            "the formatted text does not parse: {}",
+            error.message
+        )));
+    }
+    let new_root = reparsed.syntax_node();
+    let new_prios = file_priorities(&new_root);
+    let before = significant_stream(root, prios);
+    let after = significant_stream(&new_root, &new_prios);
+    if before != after {
+        let at = before
+            .iter()
+            .zip(&after)
+            .position(|(a, b)| a != b)
+            .unwrap_or(before.len().min(after.len()));
+        return Err(FormatError::Internal(format!(
+            "the formatted text differs in its tokens at token {at}: {:?} became {:?}",
+            before.get(at),
+            after.get(at)
+        )));
+    }
+    Ok(())
+}
+
+// ------------------------------------------------------------------------------------------
+// Implicit priorities (diagnostics.md §2.6)
+
+/// The priority range a graph transition belongs to.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+enum PrioRange {
+    /// All any-transitions of the graph.
+    Any,
+    /// The normal and return transitions leaving one state (its normalised number).
+    State(String),
+}
+
+/// The computed priority of every transition of `graph` that has no `prio`, in the order of
+/// `graph.transitions()`: `Some(p)` for a transition without `prio` that belongs to a
+/// priority range, `None` for a transition with an explicit `prio`, for one that belongs to no
+/// range (its source is `return` or a state that does not exist) and when the number would not
+/// fit in a `u64`.
+///
+/// The rule (diagnostics.md §2.6): walk the range in text order; a transition without `prio`
+/// gets the smallest integer greater than the priority of every earlier transition of the
+/// range (explicit or implicit) that no explicit `prio` of the range uses; with no earlier
+/// transition, the smallest integer ≥ 1 that no explicit `prio` uses.
+pub fn implicit_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
+    let states: HashSet<String> = graph
+        .states()
+        .filter_map(|state| state.number())
+        .map(|number| normalise_number(number.text()))
+        .collect();
+    let transitions: Vec<ast::Trans> = graph.transitions().collect();
+    let range_of = |trans: &ast::Trans| -> Option<PrioRange> {
+        let source = trans.source()?;
+        match source.kind()? {
+            EndpointKind::Any => Some(PrioRange::Any),
+            EndpointKind::Return => None,
+            EndpointKind::State => {
+                let number = normalise_number(source.token()?.text());
+                states
+                    .contains(&number)
+                    .then_some(PrioRange::State(number))
+            }
+        }
+    };
+    // `None`: no `prio` clause; `Some(None)`: a clause without a usable number.
+    let explicit = |trans: &ast::Trans| -> Option<Option<u64>> {
+        let clause = trans.prio()?;
+        Some(clause.value().map(|value| parse_saturating(value.text())))
+    };
+
+    let mut used: HashMap<PrioRange, HashSet<u64>> = HashMap::new();
+    for trans in &transitions {
+        if let (Some(range), Some(Some(value))) = (range_of(trans), explicit(trans)) {
+            used.entry(range).or_default().insert(value);
+        }
+    }
+    let mut highest: HashMap<PrioRange, u64> = HashMap::new();
+    let mut result = Vec::with_capacity(transitions.len());
+    for trans in &transitions {
+        let Some(range) = range_of(trans) else {
+            result.push(None);
+            continue;
+        };
+        match explicit(trans) {
+            Some(value) => {
+                if let Some(value) = value {
+                    let entry = highest.entry(range).or_insert(value);
+                    *entry = (*entry).max(value);
+                }
+                result.push(None);
+            }
+            None => {
+                let taken = used.get(&range);
+                let mut candidate = match highest.get(&range) {
+                    Some(&max) => max.checked_add(1),
+                    None => Some(1),
+                };
+                while let Some(value) = candidate {
+                    if taken.is_some_and(|taken| taken.contains(&value)) {
+                        candidate = value.checked_add(1);
+                    } else {
+                        break;
+                    }
+                }
+                if let Some(value) = candidate {
+                    highest.insert(range, value);
+                }
+                result.push(candidate);
+            }
+        }
+    }
+    result
+}
+
+/// A digit string without leading zeros (`007` and `7` name the same state).
+fn normalise_number(text: &str) -> String {
+    let trimmed = text.trim_start_matches('0');
+    if trimmed.is_empty() && !text.is_empty() {
+        "0".to_owned()
+    } else {
+        trimmed.to_owned()
+    }
+}
+
+/// A digit string as a number; too large values become `u64::MAX`.
+fn parse_saturating(text: &str) -> u64 {
+    text.bytes().try_fold(0u64, |acc, b| {
+        if b.is_ascii_digit() {
+            Some(acc.saturating_mul(10).saturating_add(u64::from(b - b'0')))
+        } else {
+            None
+        }
+    })
+    .unwrap_or(u64::MAX)
+}
+
+/// The highest priority the formatter writes out: larger implicit priorities are an error
+/// (HG2303) that an explicit number would report differently, so they stay implicit.
+const MAX_WRITTEN_PRIORITY: u64 = 65535;
+
+/// The implicit priorities of every graph of a file, by the start offset of the transition.
+fn file_priorities(root: &SyntaxNode) -> HashMap<TextSize, u64> {
+    let mut prios = HashMap::new();
+    for graph in root.descendants().filter_map(ast::Graph::cast) {
+        for (trans, prio) in graph.transitions().zip(implicit_priorities(&graph)) {
+            if let Some(prio) = prio.filter(|&p| p <= MAX_WRITTEN_PRIORITY) {
+                prios.insert(trans.syntax().text_range().start(), prio);
+            }
+        }
+    }
+    prios
+}
+
+// ------------------------------------------------------------------------------------------
+// Tokens and the trivia between them
+
+/// A comment in the trivia before a token.
+#[derive(Debug, Clone)]
+struct GapComment {
+    text: String,
+    /// Line breaks between the previous token or comment and this comment.
+    newlines_before: usize,
+}
+
+/// The trivia before one significant token (or before the end of the file).
+#[derive(Debug, Clone, Default)]
+struct Gap {
+    comments: Vec<GapComment>,
+    /// Line breaks between the last comment (or the previous token) and the token.
+    newlines_before_token: usize,
+    /// No trivia at all: the token touches the previous one.
+    touching: bool,
+}
+
+/// The significant tokens of a file in text order, with the trivia before each.
+struct TokenTable {
+    /// Token start offset → index.
+    index: HashMap<TextSize, usize>,
+    /// `gaps[i]` is the trivia before token `i`; the last entry is the trivia before the end
+    /// of the file.
+    gaps: Vec<Gap>,
+    /// `comments_upto[i]`: how many comments lie in `gaps[..i]`.
+    comments_upto: Vec<usize>,
+}
+
+impl TokenTable {
+    fn new(root: &SyntaxNode) -> TokenTable {
+        let mut index = HashMap::new();
+        let mut gaps = Vec::new();
+        let mut gap = Gap {
+            touching: true,
+            ..Gap::default()
+        };
+        let mut newlines = 0usize;
+        for element in root.descendants_with_tokens() {
+            let NodeOrToken::Token(token) = element else {
+                continue;
+            };
+            match token.kind() {
+                WHITESPACE => {
+                    newlines += count_line_breaks(token.text());
+                    gap.touching = false;
+                }
+                COMMENT => {
+                    gap.comments.push(GapComment {
+                        text: token.text().trim_end().to_owned(),
+                        newlines_before: newlines,
+                    });
+                    newlines = 0;
+                    gap.touching = false;
+                }
+                _ => {
+                    gap.newlines_before_token = newlines;
+                    index.insert(token.text_range().start(), gaps.len());
+                    gaps.push(std::mem::take(&mut gap));
+                    gap.touching = true;
+                    newlines = 0;
+                }
+            }
+        }
+        gap.newlines_before_token = newlines;
+        gaps.push(gap);
+        let mut comments_upto = Vec::with_capacity(gaps.len() + 1);
+        let mut count = 0;
+        for gap in &gaps {
+            comments_upto.push(count);
+            count += gap.comments.len();
+        }
+        comments_upto.push(count);
+        TokenTable {
+            index,
+            gaps,
+            comments_upto,
+        }
+    }
+
+    fn index_of(&self, token: &SyntaxToken) -> Option<usize> {
+        self.index.get(&token.text_range().start()).copied()
+    }
+
+    /// Are there comments before any of the tokens `from..=to`?
+    fn comments_in(&self, from: usize, to: usize) -> bool {
+        if from > to {
+            return false;
+        }
+        let count = |i: usize| self.comments_upto.get(i).copied().unwrap_or(0);
+        count(to + 1) > count(from)
+    }
+
+    /// Does token `i` touch the token before it?
+    fn touching(&self, i: usize) -> bool {
+        self.gaps.get(i).is_some_and(|gap| gap.touching)
+    }
+
+    /// The number of significant tokens.
+    fn len(&self) -> usize {
+        self.gaps.len().saturating_sub(1)
+    }
+}
+
+/// LF, CR LF and a lone CR each count as one line break.
+fn count_line_breaks(text: &str) -> usize {
+    let bytes = text.as_bytes();
+    let mut count = 0;
+    for (i, &b) in bytes.iter().enumerate() {
+        if b == b'\n' || (b == b'\r' && bytes.get(i + 1) != Some(&b'\n')) {
+            count += 1;
+        }
+    }
+    count
+}
+
+/// The significant tokens of a node, in text order.
+fn significant_tokens(node: &SyntaxNode) -> impl Iterator<Item = SyntaxToken> + use<> {
+    node.descendants_with_tokens()
+        .filter_map(|element| element.into_token())
+        .filter(|token| !token.kind().is_trivia())
+}
+
+// ------------------------------------------------------------------------------------------
+// Pieces: formatted tokens with the separator before them
+
+/// What goes between a piece and the one before it on the same line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Sep {
+    /// Nothing: the pieces touch.
+    Join,
+    /// One space.
+    Space,
+    /// This many spaces (alignment).
+    Pad(usize),
+}
+
+impl Sep {
+    fn width(self) -> usize {
+        match self {
+            Sep::Join => 0,
+            Sep::Space => 1,
+            Sep::Pad(n) => n,
+        }
+    }
+}
+
+/// One output token.
+#[derive(Debug, Clone)]
+struct Piece {
+    /// The input token it comes from; `None` for text the formatter adds (a priority).
+    token: Option<usize>,
+    text: String,
+    kind: SyntaxKind,
+    /// The kind of the token's parent node.
+    parent: SyntaxKind,
+    sep: Sep,
+}
+
+/// Where the first piece of a unit goes.
+#[derive(Debug, Clone, Copy)]
+enum Place {
+    /// On the current line, after this separator.
+    Inline(Sep),
+    /// On a new line.
+    Line {
+        indent: usize,
+        /// Indentation of comments on their own lines before the piece.
+        comment_indent: usize,
+        /// Keep one blank line if the input had one here.
+        blank: bool,
+    },
+}
+
+impl Place {
+    /// A member on its own line.
+    fn member(indent: usize) -> Place {
+        Place::Line {
+            indent,
+            comment_indent: indent,
+            blank: true,
+        }
+    }
+
+    /// The `>` that closes a multi-line body whose members are at `indent + 1`.
+    fn close(indent: usize) -> Place {
+        Place::Line {
+            indent,
+            comment_indent: indent + 1,
+            blank: false,
+        }
+    }
+}
+
+fn width(pieces: &[Piece]) -> usize {
+    pieces
+        .iter()
+        .enumerate()
+        .map(|(i, piece)| {
+            let sep = if i == 0 { 0 } else { piece.sep.width() };
+            sep + piece.text.chars().count()
+        })
+        .sum()
+}
+
+// ------------------------------------------------------------------------------------------
+// The emitter: pieces and comments → lines
+
+struct Emitter<'t> {
+    tokens: &'t TokenTable,
+    out: String,
+    /// How often each input token was written (must end as exactly once each).
+    used: Vec<u8>,
+    /// Nothing written on the current line yet.
+    at_line_start: bool,
+    /// A comment ends the current line: the next piece must start a new one.
+    need_newline: bool,
+    /// The last thing written was a `<` (no blank line may follow).
+    after_open: bool,
+    /// Indentation of the current unit; continuation lines get one more.
+    unit_indent: usize,
+}
+
+impl<'t> Emitter<'t> {
+    fn new(tokens: &'t TokenTable) -> Emitter<'t> {
+        Emitter {
+            tokens,
+            out: String::new(),
+            used: vec![0; tokens.len()],
+            at_line_start: true,
+            need_newline: false,
+            after_open: true,
+            unit_indent: 0,
+        }
+    }
+
+    fn newline(&mut self) {
+        let trimmed = self.out.trim_end_matches([' ', '\t']).len();
+        self.out.truncate(trimmed);
+        self.out.push('\n');
+        self.at_line_start = true;
+        self.need_newline = false;
+    }
+
+    fn blank_line(&mut self) {
+        if !self.out.is_empty() && !self.out.ends_with("\n\n") {
+            self.out.push('\n');
+        }
+    }
+
+    fn indent(&mut self, level: usize) {
+        for _ in 0..level {
+            self.out.push_str(INDENT);
+        }
+    }
+
+    /// Writes the comments of gap `gap`: the first one at the end of the current line if it
+    /// was there in the input, the others on their own lines at `indent`.
+    fn comments(&mut self, gap: usize, indent: usize) {
+        let tokens = self.tokens;
+        let Some(gap) = tokens.gaps.get(gap) else {
+            return;
+        };
+        for (k, comment) in gap.comments.iter().enumerate() {
+            if k == 0 && comment.newlines_before == 0 && !self.at_line_start {
+                self.out.push(' ');
+            } else {
+                if !self.at_line_start {
+                    self.newline();
+                }
+                if comment.newlines_before >= 2 && !self.after_open {
+                    self.blank_line();
+                }
+                self.indent(indent);
+            }
+            self.out.push_str(&comment.text);
+            self.at_line_start = false;
+            self.need_newline = true;
+            self.after_open = false;
+        }
+    }
+
+    /// Writes one piece at `place`.
+    fn piece(&mut self, place: Place, piece: &Piece) {
+        let comment_indent = match place {
+            Place::Line { comment_indent, .. } => comment_indent,
+            Place::Inline(_) => self.unit_indent + 1,
+        };
+        if let Some(i) = piece.token {
+            if let Some(count) = self.used.get_mut(i) {
+                *count = count.saturating_add(1);
+            }
+            self.comments(i, comment_indent);
+        }
+        match place {
+            Place::Line { indent, blank, .. } => {
+                if !self.at_line_start {
+                    self.newline();
+                }
+                let newlines = piece
+                    .token
+                    .and_then(|i| self.tokens.gaps.get(i))
+                    .map_or(0, |gap| gap.newlines_before_token);
+                if blank && newlines >= 2 && !self.after_open {
+                    self.blank_line();
+                }
+                self.indent(indent);
+                self.unit_indent = indent;
+            }
+            Place::Inline(sep) => {
+                if self.need_newline || self.at_line_start {
+                    if !self.at_line_start {
+                        self.newline();
+                    }
+                    self.indent(self.unit_indent + 1);
+                } else {
+                    for _ in 0..sep.width() {
+                        self.out.push(' ');
+                    }
+                }
+            }
+        }
+        self.out.push_str(&piece.text);
+        self.at_line_start = false;
+        self.need_newline = false;
+        self.after_open = piece.kind == L_ANGLE;
+    }
+
+    /// Writes a unit: its first piece at `place`, the others after their separators.
+    fn pieces(&mut self, place: Place, pieces: &[Piece]) {
+        let mut place = place;
+        for piece in pieces {
+            self.piece(place, piece);
+            place = Place::Inline(piece.sep);
+        }
+    }
+
+    /// Writes the comments at the end of the file and returns the text (LF line ends).
+    fn finish(mut self) -> Result<String, FormatError> {
+        let eof = self.tokens.len();
+        self.comments(eof, 0);
+        if !self.at_line_start {
+            self.newline();
+        }
+        while self.out.ends_with("\n\n") {
+            self.out.pop();
+        }
+        if let Some(i) = self.used.iter().position(|&count| count != 1) {
+            let what = if self.used[i] == 0 {
+                "left out"
+            } else {
+                "written twice"
+            };
+            return Err(FormatError::Internal(format!("token {i} was {what}")));
+        }
+        Ok(self.out)
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// The formatter: syntax tree → pieces and lines
+
+/// Kinds whose tokens always touch each other.
+const JOINED: &[SyntaxKind] = &[
+    OPCODE,
+    TYPE_REF,
+    ARROW,
+    ASSIGN_OP,
+    LABEL,
+    JUMP_LABEL,
+    COMPARE_OP,
+    VAR_REF,
+    STATUS_OPERAND,
+];
+
+/// Kinds whose tokens keep the spacing of the input (touching or one space), because the
+/// spacing is part of what they mean (`E 1.0` vs `E1.0`, `-5`).
+const PRESERVED: &[SyntaxKind] = &[ADDRESS, LITERAL, INDIRECT, PATH, MESSAGE_TARGET];
+
+/// Type names that are written in upper case (language.md §3.1).
+const TYPE_NAMES: &[&str] = &[
+    "BOOL",
+    "BYTE",
+    "WORD",
+    "DWORD",
+    "INT",
+    "DINT",
+    "REAL",
+    "S5TIME",
+    "TIME",
+    "DATE",
+    "TIME_OF_DAY",
+    "TOD",
+    "DATE_AND_TIME",
+    "DT",
+    "CHAR",
+    "STRING",
+    "TIMER",
+    "COUNTER",
+    "POINTER",
+    "ANY",
+    "BLOCK_FC",
+    "BLOCK_FB",
+    "BLOCK_DB",
+];
+
+/// Address-area identifiers of both mnemonic sets (diagnostics.md Appendix A.2).
+const AREAS: &[&str] = &[
+    "E", "A", "M", "L", "I", "Q", "EB", "EW", "ED", "AB", "AW", "AD", "MB", "MW", "MD", "LB", "LW",
+    "LD", "IB", "IW", "ID", "QB", "QW", "QD", "PEB", "PEW", "PED", "PAB", "PAW", "PAD", "PIB",
+    "PIW", "PID", "PQB", "PQW", "PQD", "DBX", "DBB", "DBW", "DBD", "DIX", "DIB", "DIW", "DID", "T",
+    "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
+];
+
+/// An identifier inside an address that is an area, optionally followed by digits (`E`, `MW`,
+/// `DB10`, `DBX5`, `E1`).
+fn is_area_word(word: &str) -> bool {
+    let letters = word.trim_end_matches(|c: char| c.is_ascii_digit());
+    AREAS.iter().any(|area| area.eq_ignore_ascii_case(letters))
+}
+
+/// Is this a `DBn . DBX…` message target that would read as a data-block address if its
+/// tokens touched? Such a target keeps its spacing.
+fn looks_like_db_address(node: &SyntaxNode) -> bool {
+    let words: Vec<String> = significant_tokens(node)
+        .filter(|t| t.kind() == IDENT)
+        .map(|t| t.text().to_ascii_uppercase())
+        .collect();
+    match words.as_slice() {
+        [first, second] => {
+            let db = first.strip_prefix("DB").is_some_and(|n| {
+                !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())
+            });
+            let access = ["DBX", "DBB", "DBW", "DBD"].iter().any(|a| {
+                second
+                    .strip_prefix(a)
+                    .is_some_and(|n| n.bytes().all(|b| b.is_ascii_digit()))
+            });
+            db && access
+        }
+        _ => false,
+    }
+}
+
+/// The text a token is written with.
+fn token_text(token: &SyntaxToken) -> String {
+    let text = token.text();
+    let kind = token.kind();
+    if kind.is_keyword() {
+        return text.to_ascii_lowercase();
+    }
+    let parent = token.parent().map(|p| p.kind());
+    match parent {
+        Some(OPCODE | LABEL | QUALIFIER) => text.to_ascii_uppercase(),
+        Some(TYPE_REF) if kind == IDENT => {
+            if TYPE_NAMES.iter().any(|t| t.eq_ignore_ascii_case(text)) {
+                text.to_ascii_uppercase()
+            } else {
+                text.to_owned()
+            }
+        }
+        Some(ADDRESS) if kind == IDENT && is_area_word(text) => text.to_ascii_uppercase(),
+        _ => text.to_owned(),
+    }
+}
+
+/// The separator between two pieces that belong to different nodes.
+fn boundary_sep(prev: Option<&Piece>, next: &Piece) -> Sep {
+    let Some(prev) = prev else {
+        return Sep::Space;
+    };
+    let in_parens = |parent: SyntaxKind| matches!(parent, PARAM_LIST | PAREN_EXPR);
+    if matches!(next.kind, SEMI | COMMA)
+        || (prev.kind == L_PAREN && in_parens(prev.parent))
+        || (next.kind == R_PAREN && in_parens(next.parent))
+        || prev.parent == ARROW
+        || next.parent == ARROW
+    {
+        Sep::Join
+    } else {
+        Sep::Space
+    }
+}
+
+/// Rank of a transition attribute in the canonical header order.
+fn attribute_rank(node: &SyntaxNode) -> usize {
+    let keyword = significant_tokens(node).next().map(|t| t.kind());
+    match keyword {
+        Some(AUTO_KW) => 0,
+        Some(MANUAL_KW) => 1,
+        Some(WAITS_KW) => 2,
+        _ => 3,
+    }
+}
+
+/// The children of a node that has a `< … >` body, split at the body.
+struct Split {
+    /// Header elements (nodes and significant tokens) before the `<`.
+    header: Vec<SyntaxElement>,
+    open: Option<SyntaxToken>,
+    members: Vec<SyntaxNode>,
+    close: Option<SyntaxToken>,
+}
+
+fn split(node: &SyntaxNode) -> Split {
+    let body = node.children().find(|child| child.kind() == BODY);
+    let mut header = Vec::new();
+    let mut open = None;
+    let mut members = Vec::new();
+    let mut close = None;
+    let mut visit = |element: SyntaxElement, open: &mut Option<SyntaxToken>| match element {
+        NodeOrToken::Token(token) if token.kind().is_trivia() => {}
+        NodeOrToken::Token(token) if token.kind() == L_ANGLE && open.is_none() => {
+            *open = Some(token);
+        }
+        NodeOrToken::Token(token) if token.kind() == R_ANGLE && open.is_some() => {
+            close = Some(token);
+        }
+        element if open.is_none() => header.push(element),
+        NodeOrToken::Node(member) => members.push(member),
+        NodeOrToken::Token(_) => {}
+    };
+    for element in node.children_with_tokens() {
+        match (&element, &body) {
+            (NodeOrToken::Node(child), Some(body)) if child == body => {
+                for inner in body.children_with_tokens() {
+                    visit(inner, &mut open);
+                }
+            }
+            _ => visit(element, &mut open),
+        }
+    }
+    Split {
+        header,
+        open,
+        members,
+        close,
+    }
+}
+
+struct Formatter<'t> {
+    tokens: &'t TokenTable,
+    prios: &'t HashMap<TextSize, u64>,
+    em: Emitter<'t>,
+}
+
+impl Formatter<'_> {
+    // ---------------------------------------------------------------- pieces
+
+    fn piece(&self, token: &SyntaxToken) -> Piece {
+        Piece {
+            token: self.tokens.index_of(token),
+            text: token_text(token),
+            kind: token.kind(),
+            parent: token.parent().map_or(SOURCE_FILE, |p| p.kind()),
+            sep: Sep::Space,
+        }
+    }
+
+    /// Appends a token with the separator that the boundary rules give.
+    fn push_token(&self, token: &SyntaxToken, out: &mut Vec<Piece>) {
+        if token.kind().is_trivia() {
+            return;
+        }
+        let mut piece = self.piece(token);
+        piece.sep = boundary_sep(out.last(), &piece);
+        out.push(piece);
+    }
+
+    /// Appends the whole element on one line.
+    fn collect(&self, element: SyntaxElement, out: &mut Vec<Piece>) {
+        match element {
+            NodeOrToken::Token(token) => self.push_token(&token, out),
+            NodeOrToken::Node(node) => self.collect_node(&node, out),
+        }
+    }
+
+    fn collect_node(&self, node: &SyntaxNode, out: &mut Vec<Piece>) {
+        let kind = node.kind();
+        let joined = JOINED.contains(&kind);
+        let preserved = PRESERVED.contains(&kind);
+        if joined || preserved {
+            let keep_spacing =
+                preserved && (kind != MESSAGE_TARGET || looks_like_db_address(node));
+            let mut first = true;
+            for token in significant_tokens(node) {
+                let mut piece = self.piece(&token);
+                piece.sep = if first {
+                    boundary_sep(out.last(), &piece)
+                } else if keep_spacing {
+                    match piece.token {
+                        Some(i) if !self.tokens.touching(i) => Sep::Space,
+                        _ => Sep::Join,
+                    }
+                } else {
+                    Sep::Join
+                };
+                first = false;
+                out.push(piece);
+            }
+            return;
+        }
+        match kind {
+            STATE | TRANS => {
+                self.header_pieces(node, out);
+                let split = split(node);
+                self.inline_body(&split, out);
+            }
+            _ => {
+                for child in node.children_with_tokens() {
+                    self.collect(child, out);
+                }
+            }
+        }
+    }
+
+    /// The whole node on one line.
+    fn inline(&self, node: &SyntaxNode) -> Vec<Piece> {
+        let mut out = Vec::new();
+        self.collect_node(node, &mut out);
+        out
+    }
+
+    /// `< members >` on one line.
+    fn inline_body(&self, split: &Split, out: &mut Vec<Piece>) {
+        if let Some(open) = &split.open {
+            self.push_token(open, out);
+        }
+        for member in &split.members {
+            self.collect_node(member, out);
+        }
+        if let Some(close) = &split.close {
+            self.push_token(close, out);
+        }
+    }
+
+    /// Comments between the first and the last token of the elements.
+    fn comments_within(&self, elements: &[SyntaxElement]) -> bool {
+        let indices: Vec<usize> = elements
+            .iter()
+            .flat_map(|element| match element {
+                NodeOrToken::Token(token) => vec![token.clone()],
+                NodeOrToken::Node(node) => significant_tokens(node).collect(),
+            })
+            .filter_map(|token| self.tokens.index_of(&token))
+            .collect();
+        match (indices.iter().min(), indices.iter().max()) {
+            (Some(&first), Some(&last)) => self.tokens.comments_in(first + 1, last),
+            _ => false,
+        }
+    }
+
+    /// Are there comments inside the node (after its first token, up to its last)?
+    fn has_inner_comments(&self, node: &SyntaxNode) -> bool {
+        self.comments_within(&[NodeOrToken::Node(node.clone())])
+    }
+
+    /// The header of a node (everything before its `<`). State and transition headers are put
+    /// in canonical order, and a transition's implicit priority is written out.
+    fn header_pieces(&self, node: &SyntaxNode, out: &mut Vec<Piece>) {
+        let split = split(node);
+        let header = &split.header;
+        let reorder = !self.comments_within(header);
+        match node.kind() {
+            TRANS => {
+                let is_clause = |e: &SyntaxElement| {
+                    e.as_node().is_some_and(|n| {
+                        matches!(n.kind(), PRIO_CLAUSE | ATTRIBUTE | COMMENT_STRING)
+                    })
+                };
+                let fixed: Vec<&SyntaxElement> = header.iter().filter(|e| !is_clause(e)).collect();
+                let clauses: Vec<SyntaxNode> = header
+                    .iter()
+                    .filter(|e| is_clause(e))
+                    .filter_map(|e| e.as_node().cloned())
+                    .collect();
+                for element in &fixed {
+                    self.collect((*element).clone(), out);
+                }
+                let has_prio = clauses.iter().any(|c| c.kind() == PRIO_CLAUSE);
+                if !has_prio {
+                    if let Some(&prio) = self.prios.get(&node.text_range().start()) {
+                        out.push(Piece {
+                            token: None,
+                            text: "prio".to_owned(),
+                            kind: PRIO_KW,
+                            parent: PRIO_CLAUSE,
+                            sep: Sep::Space,
+                        });
+                        out.push(Piece {
+                            token: None,
+                            text: prio.to_string(),
+                            kind: NUMBER,
+                            parent: PRIO_CLAUSE,
+                            sep: Sep::Space,
+                        });
+                    }
+                }
+                if reorder {
+                    let of = |kind| clauses.iter().filter(move |c| c.kind() == kind);
+                    for clause in of(PRIO_CLAUSE) {
+                        self.collect_node(clause, out);
+                    }
+                    let mut attributes: Vec<&SyntaxNode> = of(ATTRIBUTE).collect();
+                    attributes.sort_by_key(|a| attribute_rank(a));
+                    for clause in attributes {
+                        self.collect_node(clause, out);
+                    }
+                    for clause in of(COMMENT_STRING) {
+                        self.collect_node(clause, out);
+                    }
+                } else {
+                    for clause in &clauses {
+                        self.collect_node(clause, out);
+                    }
+                }
+            }
+            STATE if reorder => {
+                let is_kind = |e: &SyntaxElement, kind| e.as_node().is_some_and(|n| n.kind() == kind);
+                for element in header.iter().filter(|e| {
+                    !is_kind(e, COMMENT_STRING) && !is_kind(e, ATTRIBUTE)
+                }) {
+                    self.collect(element.clone(), out);
+                }
+                for element in header.iter().filter(|e| is_kind(e, COMMENT_STRING)) {
+                    self.collect(element.clone(), out);
+                }
+                for element in header.iter().filter(|e| is_kind(e, ATTRIBUTE)) {
+                    self.collect(element.clone(), out);
+                }
+            }
+            _ => {
+                for element in header {
+                    self.collect(element.clone(), out);
+                }
+            }
+        }
+    }
+
+    // ---------------------------------------------------------------- layout decisions
+
+    /// Can this node be written on one line?
+    fn fits_on_one_line(&self, node: &SyntaxNode, indent: usize) -> bool {
+        let split = split(node);
+        let mut body_elements: Vec<SyntaxElement> = Vec::new();
+        if let Some(open) = &split.open {
+            body_elements.push(NodeOrToken::Token(open.clone()));
+        }
+        body_elements.extend(split.members.iter().cloned().map(NodeOrToken::Node));
+        if let Some(close) = &split.close {
+            body_elements.push(NodeOrToken::Token(close.clone()));
+        }
+        if split.open.is_none() {
+            // No body: a simple member.
+            return true;
+        }
+        if self.comments_within(&body_elements) {
+            return false;
+        }
+        let members = &split.members;
+        if members.is_empty() {
+            return true;
+        }
+        match node.kind() {
+            STATE | TRANS | PERMANENT => {
+                members.len() == 1
+                    && members.iter().all(|m| {
+                        m.kind() != BLOCK || m.children().filter(|c| c.kind() == STL_STMT).count() <= 1
+                    })
+            }
+            START_PART | PRE_PART | POST_PART | STEP_PHASE | CHART_TRANS | JUMP | LOOP => {
+                members.len() == 1
+            }
+            STEP => members.len() == 1 && members.iter().all(|m| self.fits_on_one_line(m, indent)),
+            VAR_SECTION => {
+                INDENT.len() * indent + width(&self.inline(node)) <= MAX_WIDTH
+            }
+            _ => false,
+        }
+    }
+
+    // ---------------------------------------------------------------- layout
+
+    fn source_file(&mut self, root: &SyntaxNode) {
+        for item in root.children() {
+            self.layout(&item, Place::member(0), 0);
+        }
+    }
+
+    /// Writes a member at `place`; `indent` is its own indentation level (its body's members
+    /// go one level deeper).
+    fn layout(&mut self, node: &SyntaxNode, place: Place, indent: usize) {
+        if self.fits_on_one_line(node, indent) {
+            let pieces = self.inline(node);
+            self.em.pieces(place, &pieces);
+            return;
+        }
+        let split = split(node);
+        let mut header = Vec::new();
+        if matches!(node.kind(), STATE | TRANS) {
+            self.header_pieces(node, &mut header);
+        } else {
+            for element in &split.header {
+                self.collect(element.clone(), &mut header);
+            }
+        }
+        if let Some(open) = &split.open {
+            self.push_token(open, &mut header);
+        }
+        self.em.pieces(place, &header);
+        let inner = indent + 1;
+        match node.kind() {
+            STATE | TRANS | PERMANENT => {
+                for member in &split.members {
+                    self.instruction_item(member, inner);
+                }
+            }
+            SYMBOLS => self.aligned(&split.members, inner, SYMBOL, |p| {
+                p.kind == COLON && p.parent == SYMBOL
+            }),
+            INSTANCE => self.aligned(&split.members, inner, ACTUAL, |p| {
+                p.kind == COLON && p.parent == ASSIGN_OP
+            }),
+            _ => {
+                for member in &split.members {
+                    self.layout(member, Place::member(inner), inner);
+                }
+            }
+        }
+        if let Some(close) = &split.close {
+            let piece = self.piece(close);
+            self.em.piece(Place::close(indent), &piece);
+        }
+    }
+
+    /// A block, `wait` or `supervise` item of a multi-line instruction body.
+    fn instruction_item(&mut self, node: &SyntaxNode, indent: usize) {
+        if node.kind() != BLOCK {
+            let pieces = self.inline(node);
+            self.em.pieces(Place::member(indent), &pieces);
+            return;
+        }
+        let mut statement_indent = indent;
+        for child in node.children() {
+            let pieces = self.inline(&child);
+            if child.kind() == LABEL {
+                statement_indent = indent + 1;
+                self.em.pieces(Place::member(indent), &pieces);
+            } else {
+                self.em.pieces(Place::member(statement_indent), &pieces);
+            }
+        }
+    }
+
+    /// Members of a symbol table or instance, with the separator before the first piece that
+    /// `is_anchor` matches padded so that those pieces line up.
+    fn aligned(
+        &mut self,
+        members: &[SyntaxNode],
+        indent: usize,
+        kind: SyntaxKind,
+        is_anchor: impl Fn(&Piece) -> bool,
+    ) {
+        let lines: Vec<Vec<Piece>> = members.iter().map(|m| self.inline(m)).collect();
+        let before_anchor = |pieces: &[Piece]| -> Option<usize> {
+            let at = pieces.iter().position(&is_anchor)?;
+            Some(width(&pieces[..at]))
+        };
+        let column = members
+            .iter()
+            .zip(&lines)
+            .filter(|(m, _)| m.kind() == kind)
+            .filter_map(|(_, pieces)| before_anchor(pieces))
+            .max()
+            .unwrap_or(0);
+        for (member, mut pieces) in members.iter().zip(lines) {
+            if member.kind() == kind {
+                if let (Some(at), Some(w)) = (pieces.iter().position(&is_anchor), before_anchor(&pieces)) {
+                    if at > 0 {
+                        pieces[at].sep = Sep::Pad(column - w + 1);
+                    }
+                }
+            }
+            self.em.pieces(Place::member(indent), &pieces);
+        }
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// The token check
+
+/// The significant tokens of a file as `(parent kind, kind, text)` lines, with the case
+/// differences the formatter may introduce folded, state and transition headers in canonical
+/// clause order and implicit priorities written out: two files with equal streams mean the
+/// same.
+fn significant_stream(root: &SyntaxNode, prios: &HashMap<TextSize, u64>) -> Vec<String> {
+    let mut out = Vec::new();
+    stream_node(root, prios, &mut out);
+    out
+}
+
+fn stream_token(token: &SyntaxToken, out: &mut Vec<String>) {
+    if token.kind().is_trivia() {
+        return;
+    }
+    let parent = token.parent().map_or(SOURCE_FILE, |p| p.kind());
+    let folded = token.kind().is_keyword()
+        || matches!(parent, OPCODE | LABEL | QUALIFIER | TYPE_REF | ADDRESS);
+    let text = if folded {
+        token.text().to_ascii_lowercase()
+    } else {
+        token.text().to_owned()
+    };
+    out.push(format!("{parent:?} {:?} {text}", token.kind()));
+}
+
+fn stream_node(node: &SyntaxNode, prios: &HashMap<TextSize, u64>, out: &mut Vec<String>) {
+    if !matches!(node.kind(), STATE | TRANS) {
+        for child in node.children_with_tokens() {
+            match child {
+                NodeOrToken::Token(token) => stream_token(&token, out),
+                NodeOrToken::Node(child) => stream_node(&child, prios, out),
+            }
+        }
+        return;
+    }
+    let mut clauses: Vec<(usize, SyntaxNode)> = Vec::new();
+    let mut has_prio = false;
+    let mut rest: Vec<SyntaxElement> = Vec::new();
+    for child in node.children_with_tokens() {
+        match &child {
+            NodeOrToken::Node(n) if matches!(n.kind(), PRIO_CLAUSE | ATTRIBUTE | COMMENT_STRING) => {
+                let rank = match n.kind() {
+                    PRIO_CLAUSE => {
+                        has_prio = true;
+                        0
+                    }
+                    ATTRIBUTE if node.kind() == TRANS => 1 + attribute_rank(n),
+                    ATTRIBUTE => 10,
+                    _ if node.kind() == TRANS => 10,
+                    _ => 5,
+                };
+                clauses.push((rank, n.clone()));
+            }
+            _ => rest.push(child),
+        }
+    }
+    clauses.sort_by_key(|(rank, _)| *rank);
+    let mut header_done = false;
+    for child in rest {
+        if !header_done && child.as_node().is_some_and(|n| n.kind() == BODY) {
+            if !has_prio {
+                if let Some(prio) = prios.get(&node.text_range().start()) {
+                    out.push(format!("{PRIO_CLAUSE:?} {PRIO_KW:?} prio"));
+                    out.push(format!("{PRIO_CLAUSE:?} {NUMBER:?} {prio}"));
+                }
+            }
+            for (_, clause) in &clauses {
+                stream_node(clause, prios, out);
+            }
+            header_done = true;
+        }
+        match child {
+            NodeOrToken::Token(token) => stream_token(&token, out),
+            NodeOrToken::Node(child) => stream_node(&child, prios, out),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn priorities(text: &str) -> Vec<Option<u64>> {
+        let parsed = parse(text);
+        assert!(parsed.errors().is_empty(), "{:?}", parsed.errors());
+        let graph = parsed
+            .syntax_node()
+            .descendants()
+            .find_map(ast::Graph::cast)
+            .expect("a graph");
+        implicit_priorities(&graph)
+    }
+
+    #[test]
+    fn implicit_priorities_follow_text_order_and_skip_explicit_ones() {
+        let text = "graph G <
+  state 0 < >
+  state 1 < >
+  trans 0->1 < >
+  trans 0->1 prio 2 < >
+  trans 0->1 < >
+  trans 0->return < >
+  trans 1->0 prio 5 < >
+  trans 1->0 < >
+  trans any->0 prio 1 < >
+  trans any->1 < >
+  trans 7->0 < >
+  trans return->0 < >
+>
+";
+        assert_eq!(
+            priorities(text),
+            vec![
+                Some(1),
+                None,
+                Some(3),
+                Some(4),
+                None,
+                Some(6),
+                None,
+                Some(2),
+                None,
+                None
+            ]
+        );
+    }
+
+    #[test]
+    fn implicit_priority_skips_every_explicit_priority_of_the_range() {
+        let text = "graph G <
+  state 0 < >
+  trans 0->0 prio 1 < >
+  trans 0->0 < >
+  trans 0->0 prio 3 < >
+  trans 0->0 prio 2 < >
+>
+";
+        // The second transition: greater than 1, and 2 and 3 are used explicitly.
+        assert_eq!(priorities(text), vec![None, Some(4), None, None]);
+    }
+
+    #[test]
+    fn state_numbers_compare_numerically() {
+        let text = "graph G < state 007 < > trans 7->7 < > >";
+        assert_eq!(priorities(text), vec![Some(1)]);
+    }
+
+    #[test]
+    fn line_breaks() {
+        assert_eq!(count_line_breaks("\r\n\n\r \r"), 4);
+        assert!(uses_crlf("a\r\nb\n"));
+        assert!(!uses_crlf("a\nb\r\n"));
+        assert!(!uses_crlf("ab"));
+    }
+
+    #[test]
+    fn syntax_errors_are_refused() {
+        assert!(matches!(
+            format("graph G < state 0 < U x >"),
+            Err(FormatError::Syntax(_))
+        ));
+    }
+
+    #[test]
+    fn empty_input() {
+        assert_eq!(format("").as_deref(), Ok(""));
+        assert_eq!(format("  \n\n").as_deref(), Ok(""));
+        assert_eq!(format("// c  \n\n\n// d").as_deref(), Ok("// c\n\n// d\n"));
+    }
+}

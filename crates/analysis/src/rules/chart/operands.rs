@@ -1,0 +1,378 @@
+//! Operand resolution in charts (`diagnostics.md` §2.4 "In a chart"): a `Name` is a variable of
+//! the chart, else a global symbol, else an address written without a space; `"Name"` is a
+//! global symbol; `SFC.` paths are the chart's runtime interface; other dotted paths are
+//! external references.
+//!
+//! Diagnostics: HG4101 (unresolved operand; HG3005 for time values, in `times`), HG1104 (case
+//! of a variable or symbol reference), HG7309 (a chart type uses something outside its
+//! interface), HG7310 (external reference in a plain chart) and the address rules HG4009–HG4012.
+//! Every resolution counts as a use (HG1210, HG6004), also in constructs with syntax errors,
+//! whose diagnostics are skipped (C1).
+
+use higraph_syntax::{
+    TextRange, TextSize,
+    ast::{self, AstNode},
+};
+
+use super::Scope;
+use crate::{
+    address::{self, Address, AddressError, Area},
+    closest::closest,
+    lang::Type,
+    rules::Ctx,
+};
+
+/// What an operand denotes.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Target {
+    /// A chart variable (index into [`Scope::vars`]).
+    Var(usize),
+    /// A global symbol: its name, type and address.
+    Symbol {
+        name: String,
+        ty: Option<Type>,
+        address: Option<Address>,
+    },
+    /// An absolute address; `None` if it is malformed.
+    Address(Option<Address>),
+    /// `SFC.…`: the chart's runtime interface.
+    Sfc,
+    /// Another dotted path: an external reference.
+    External,
+    /// Nothing.
+    Unresolved,
+}
+
+impl Target {
+    /// The type of the operand; `None` if unknown (§2.4).
+    pub fn ty(&self, scope: &Scope) -> Option<Type> {
+        match self {
+            Target::Var(i) => scope.vars.get(*i).and_then(|v| v.ty),
+            Target::Symbol { ty, .. } => *ty,
+            Target::Address(a) => a.as_ref().map(Address::ty),
+            Target::Sfc | Target::External | Target::Unresolved => None,
+        }
+    }
+
+    /// Is it the same operand as `other` (HG7311): the same variable, the same symbol, the
+    /// same normalised address, or a symbol together with its own address?
+    pub fn same_as(&self, other: &Target) -> bool {
+        match (self, other) {
+            (Target::Var(a), Target::Var(b)) => a == b,
+            (Target::Symbol { name: a, .. }, Target::Symbol { name: b, .. }) => {
+                a.eq_ignore_ascii_case(b)
+            }
+            (
+                Target::Symbol {
+                    address: Some(s), ..
+                },
+                Target::Address(Some(a)),
+            )
+            | (
+                Target::Address(Some(a)),
+                Target::Symbol {
+                    address: Some(s), ..
+                },
+            ) => s == a,
+            (Target::Address(Some(a)), Target::Address(Some(b))) => a == b,
+            _ => false,
+        }
+    }
+}
+
+/// How to report an operand that does not resolve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Unresolved {
+    /// HG4101.
+    Operand,
+    /// HG3005 (reported by the caller).
+    TimeValue,
+}
+
+/// Resolves a chart path. With `report` false (a construct with a syntax error, C1, or a
+/// value that another rule already rejects) only the use is recorded.
+pub(crate) fn resolve(
+    ctx: &mut Ctx<'_>,
+    scope: &mut Scope,
+    path: &ast::Path,
+    unresolved: Unresolved,
+    report: bool,
+) -> Target {
+    if let Some(address) = path.address() {
+        let target = Target::Address(read_address(ctx, &address, report));
+        if report {
+            outside_interface(ctx, scope, path, "an absolute address");
+        }
+        return target;
+    }
+    if let Some(symbol) = path.symbol() {
+        return quoted_symbol(ctx, scope, &symbol, path, unresolved, report);
+    }
+    let segments: Vec<ast::NameRef> = path.segments().collect();
+    match segments.as_slice() {
+        [] => Target::Unresolved,
+        [name] => plain_name(ctx, scope, name, path, unresolved, report),
+        [first, ..] => {
+            if first.text().eq_ignore_ascii_case("SFC") {
+                return Target::Sfc;
+            }
+            if report {
+                external(ctx, scope, path);
+            }
+            Target::External
+        }
+    }
+}
+
+/// `Name`: a variable, else a global symbol, else an address written without a space.
+fn plain_name(
+    ctx: &mut Ctx<'_>,
+    scope: &mut Scope,
+    name_ref: &ast::NameRef,
+    path: &ast::Path,
+    unresolved: Unresolved,
+    report: bool,
+) -> Target {
+    let range = path.syntax().text_range();
+    let Some(token) = name_ref.token() else {
+        return Target::Unresolved;
+    };
+    let name = token.text();
+    if let Some(i) = scope.var(name) {
+        scope.used[i] = true;
+        if report {
+            case_hint(ctx, name, &scope.vars[i].name, token.text_range());
+        }
+        return Target::Var(i);
+    }
+    if let Some(target) = symbol(ctx, name) {
+        if report {
+            if let Target::Symbol { name: declared, .. } = &target {
+                case_hint(ctx, name, declared, token.text_range());
+            }
+            outside_interface(ctx, scope, path, "a global symbol");
+        }
+        return target;
+    }
+    if let Some(read) = address::read(name, ctx.mnemonic)
+        && !read.other_set
+        && let Ok(address) = read.address
+    {
+        if report {
+            outside_interface(ctx, scope, path, "an absolute address");
+        }
+        return Target::Address(Some(address));
+    }
+    if report && unresolved == Unresolved::Operand {
+        unresolved_name(ctx, scope, name, range);
+    }
+    Target::Unresolved
+}
+
+/// `"Name"`: a global symbol.
+fn quoted_symbol(
+    ctx: &mut Ctx<'_>,
+    scope: &Scope,
+    symbol_ref: &ast::SymbolRef,
+    path: &ast::Path,
+    unresolved: Unresolved,
+    report: bool,
+) -> Target {
+    let range = path.syntax().text_range();
+    let name = symbol_ref.name();
+    if let Some(target) = symbol(ctx, &name) {
+        if report {
+            if let (Target::Symbol { name: declared, .. }, Some(token)) =
+                (&target, symbol_ref.token())
+            {
+                // The reference is the name without its quotes (§2.3).
+                let start = token.text_range().start() + TextSize::from(1);
+                let inner = TextRange::at(start, TextSize::of(name.as_str()));
+                case_hint(ctx, &name, declared, inner);
+            }
+            outside_interface(ctx, scope, path, "a global symbol");
+        }
+        return target;
+    }
+    if report && unresolved == Unresolved::Operand {
+        let mut diag = ctx.diag(
+            "HG4101",
+            range,
+            format!("\"{name}\" is not a global symbol"),
+        );
+        let candidates: Vec<&str> = ctx.index.symbols.iter().map(|s| s.name.as_str()).collect();
+        if let Some(best) = closest(&name, candidates) {
+            diag = diag.fix(
+                format!("Replace with '\"{best}\"'"),
+                ctx.loc(range),
+                format!("\"{best}\""),
+            );
+        }
+        ctx.push(diag);
+    }
+    Target::Unresolved
+}
+
+/// The global symbol of that name, recorded as used (HG6004).
+fn symbol(ctx: &mut Ctx<'_>, name: &str) -> Option<Target> {
+    let index = ctx.index;
+    let symbol = index.symbol(name)?;
+    ctx.use_symbol(name);
+    Some(Target::Symbol {
+        name: symbol.name.clone(),
+        ty: symbol.ty,
+        address: symbol.address.clone(),
+    })
+}
+
+/// HG4101 for `Name`, with the fix that replaces it by the closest variable or symbol name.
+fn unresolved_name(ctx: &mut Ctx<'_>, scope: &Scope, name: &str, range: TextRange) {
+    let mut diag = ctx.diag(
+        "HG4101",
+        range,
+        format!(
+            "'{name}' is neither a variable of {} nor a global symbol",
+            scope.chart.owner()
+        ),
+    );
+    let index = ctx.index;
+    let mut candidates: Vec<&str> = scope
+        .vars
+        .iter()
+        .filter(|v| !v.duplicate)
+        .map(|v| v.name.as_str())
+        .collect();
+    if !scope.chart.is_type {
+        candidates.extend(index.symbols.iter().map(|s| s.name.as_str()));
+    }
+    if let Some(best) = closest(name, candidates) {
+        let text = if is_identifier(best) {
+            best.to_owned()
+        } else {
+            format!("\"{best}\"")
+        };
+        diag = diag.fix(format!("Replace with '{text}'"), ctx.loc(range), text);
+    }
+    ctx.push(diag);
+}
+
+/// Can the name be written without quotes?
+fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// HG1104: a reference spelled in another letter case than its declaration.
+fn case_hint(ctx: &mut Ctx<'_>, used: &str, declared: &str, range: TextRange) {
+    if used == declared {
+        return;
+    }
+    let diag = ctx
+        .diag(
+            "HG1104",
+            range,
+            format!("'{used}' is declared as '{declared}'"),
+        )
+        .fix(
+            format!("Replace with '{declared}'"),
+            ctx.loc(range),
+            declared,
+        );
+    ctx.push(diag);
+}
+
+/// HG7309: a chart type may only use its own interface.
+fn outside_interface(ctx: &mut Ctx<'_>, scope: &Scope, path: &ast::Path, what: &str) {
+    if !scope.chart.is_type {
+        return;
+    }
+    let range = path.syntax().text_range();
+    let text = path.syntax().text().to_string();
+    let diag = ctx.diag(
+        "HG7309",
+        range,
+        format!(
+            "chart type {} may only use its own interface; {text} is {what}",
+            scope.chart.name
+        ),
+    );
+    ctx.push(diag);
+}
+
+/// HG7309 (chart type) or HG7310 (plain chart) for an external reference.
+fn external(ctx: &mut Ctx<'_>, scope: &Scope, path: &ast::Path) {
+    let range = path.syntax().text_range();
+    if scope.chart.is_type {
+        outside_interface(ctx, scope, path, "an external reference");
+        return;
+    }
+    let text = super::collapsed(path.syntax());
+    let diag = ctx.diag(
+        "HG7310",
+        range,
+        format!("'{text}' is an external reference; it is not checked"),
+    );
+    ctx.push(diag);
+}
+
+/// Reads an address written in a chart; HG4009–HG4012 when `report`. Addresses of the other
+/// mnemonic set are read in their translated form.
+fn read_address(ctx: &mut Ctx<'_>, address: &ast::Address, report: bool) -> Option<Address> {
+    let compact = address.compact_text();
+    let written = address.syntax().text().to_string();
+    let range = address.syntax().text_range();
+    let read = address::read(&compact, ctx.mnemonic)?;
+    match read.address {
+        Ok(a) => {
+            if report && a.area == Area::Local {
+                let diag = ctx.diag(
+                    "HG4012",
+                    range,
+                    format!("'{written}' is temporary local data of the generated FC; its value is not kept"),
+                );
+                ctx.push(diag);
+            }
+            Some(a)
+        }
+        Err(error) => {
+            if report {
+                address_error(ctx, &written, range, error);
+            }
+            None
+        }
+    }
+}
+
+/// HG4009, HG4010 and HG4011 for a malformed address.
+fn address_error(ctx: &mut Ctx<'_>, written: &str, range: TextRange, error: AddressError) {
+    let diag = match error {
+        AddressError::BitOutOfRange { bit, .. } => {
+            // The bit number ends the address.
+            let start = range.end() - TextSize::of(bit.as_str());
+            ctx.diag(
+                "HG4009",
+                TextRange::new(start.max(range.start()), range.end()),
+                format!("bit number {bit} is outside 0..7"),
+            )
+        }
+        AddressError::Malformed(reason) => ctx.diag(
+            "HG4010",
+            range,
+            format!("'{written}' is not a valid address: {reason}"),
+        ),
+        AddressError::NeedsDb => ctx.diag(
+            "HG4011",
+            range,
+            format!("'{written}' needs a data block number ('DBn.{written}'); no DB can be opened in HiGraph"),
+        ),
+        AddressError::InstanceDb => ctx.diag(
+            "HG4011",
+            range,
+            "instance-DB operands are not available in HiGraph",
+        ),
+    };
+    ctx.push(diag);
+}

@@ -1,0 +1,153 @@
+//! Time values (`diagnostics.md` §3.3): HG3004 (not of type TIME), HG3006 (negative) and
+//! HG3008 (zero). Shared by graphs (`wait`, `supervise`) and charts (`min`, `max`, qualifier
+//! times). HG3005 (unresolved) belongs to resolution: see
+//! [`crate::resolve::time_operand_not_found`].
+
+use higraph_syntax::{
+    TextRange, ast,
+    literal::{self, LiteralClass, LiteralValue},
+};
+
+use super::Ctx;
+use crate::lang::Type;
+
+/// What a time value sets, for HG3008's message.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TimeKind {
+    /// `wait` of a graph state.
+    Wait,
+    /// `supervise` of a graph state.
+    Supervision,
+    /// `min` of a chart step.
+    #[allow(dead_code)] // for the chart rules
+    MinRunTime,
+    /// `max` of a chart step.
+    #[allow(dead_code)] // for the chart rules
+    MaxRunTime,
+    /// The time of a chart action qualifier (`L`, `D`, `SD`, `DS`, `SL`).
+    ActionTime,
+}
+
+impl TimeKind {
+    fn phrase(self) -> &'static str {
+        match self {
+            TimeKind::Wait => "wait time",
+            TimeKind::Supervision => "supervision time",
+            TimeKind::MinRunTime => "minimum run time",
+            TimeKind::MaxRunTime => "maximum run time",
+            TimeKind::ActionTime => "action time",
+        }
+    }
+}
+
+/// Checks one time value: HG3004, HG3006 and HG3008.
+///
+/// * `value` — the value as parsed (a constant or an operand);
+/// * `ty` — the operand's resolved type; `None` when unknown or unresolved (then only
+///   constants are checked; report HG3005 separately);
+/// * `kind` — what the value sets (HG3008's wording);
+/// * `item` — the whole item (`wait T#0S;`, `max T#0S;`), for HG3008's "remove the item" fix;
+///   pass `None` for qualifier times, which get no fix.
+pub(crate) fn check_time_value(
+    ctx: &mut Ctx<'_>,
+    value: &ast::Operand,
+    ty: Option<Type>,
+    kind: TimeKind,
+    item: Option<TextRange>,
+) {
+    let range = value.syntax().text_range();
+    let text = value.syntax().text().to_string();
+    let ast::Operand::Literal(lit) = value else {
+        if let Some(ty) = ty.filter(|t| *t != Type::Time) {
+            not_a_time(ctx, range, &text, &ty.to_string(), None);
+        }
+        return;
+    };
+    let Ok(constant) = literal::check_literal(&lit.text()) else {
+        // HG0006 / HG0007: the syntax checks report it; its type is unknown.
+        return;
+    };
+    let millis = match constant.value {
+        LiteralValue::Duration { millis } => Some(millis),
+        _ => None,
+    };
+    match (constant.class, millis) {
+        (LiteralClass::IecTime, Some(ms)) if ms < 0 => {
+            let diag = ctx.diag("HG3006", range, format!("time value {text} is negative"));
+            ctx.push(diag);
+        }
+        (LiteralClass::IecTime, Some(0)) => zero_time(ctx, range, &text, kind, item),
+        (LiteralClass::IecTime, _) => {}
+        (LiteralClass::S5Time, Some(ms)) => {
+            let rewrite = Some(iec_time_text(ms));
+            not_a_time(ctx, range, &text, "S5TIME", rewrite);
+        }
+        _ => not_a_time(ctx, range, &text, literal::literal_type(&constant), None),
+    }
+}
+
+/// HG3004, with the `T#` rewrite of an `S5T#` constant.
+fn not_a_time(ctx: &mut Ctx<'_>, range: TextRange, text: &str, ty: &str, rewrite: Option<String>) {
+    let message = format!("a time value must be of type TIME; {text} is {ty}");
+    let mut diag = ctx.diag("HG3004", range, message);
+    if let Some(rewrite) = rewrite {
+        diag = diag.fix(format!("Rewrite as {rewrite}"), ctx.loc(range), rewrite);
+    }
+    ctx.push(diag);
+}
+
+/// HG3008: a zero time constant.
+fn zero_time(
+    ctx: &mut Ctx<'_>,
+    range: TextRange,
+    text: &str,
+    kind: TimeKind,
+    item: Option<TextRange>,
+) {
+    let message = format!(
+        "time value {text} is zero, so the {} has no useful effect",
+        kind.phrase()
+    );
+    let mut diag = ctx.diag("HG3008", range, message);
+    if let Some(item) = item.filter(|_| kind != TimeKind::ActionTime) {
+        diag = diag.fix("Remove the item", ctx.loc(item), "");
+    }
+    ctx.push(diag);
+}
+
+/// A duration as the shortest `T#` constant (`T#1H1M`, `T#0S`).
+pub(crate) fn iec_time_text(millis: i64) -> String {
+    if millis == 0 {
+        return "T#0S".to_owned();
+    }
+    let sign = if millis < 0 { "-" } else { "" };
+    let mut rest = millis.unsigned_abs();
+    let mut text = format!("T#{sign}");
+    for (unit, size) in [
+        ("D", 86_400_000),
+        ("H", 3_600_000),
+        ("M", 60_000),
+        ("S", 1_000),
+        ("MS", 1),
+    ] {
+        let count = rest / size;
+        rest %= size;
+        if count > 0 {
+            text.push_str(&format!("{count}{unit}"));
+        }
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::iec_time_text;
+
+    #[test]
+    fn writes_durations_as_iec_time() {
+        assert_eq!(iec_time_text(0), "T#0S");
+        assert_eq!(iec_time_text(3_660_000), "T#1H1M");
+        assert_eq!(iec_time_text(10), "T#10MS");
+        assert_eq!(iec_time_text(-1500), "T#-1S500MS");
+    }
+}
