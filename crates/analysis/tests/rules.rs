@@ -1,40 +1,44 @@
 //! Rule fixtures: `test_data/rules/HGnnnn/fail*.higraph` must produce HGnnnn, `pass*.higraph`
 //! must not. A fixture is one workspace: either a single file (`main.higraph`), or several
 //! files introduced by `//- path` lines (rust-analyzer style), where `//- higraph.toml` is the
-//! configuration and `//- x.sdf` an imported symbol table. The diagnostics of every failing
-//! fixture are snapshotted (code, severity, file, range, message, related, fixes).
+//! configuration and `//- x.sdf` an imported symbol table. `//- path !unreadable` stands for a
+//! file that cannot be read; fixtures are read as bytes, so a file may hold invalid UTF-8. The
+//! diagnostics of every failing fixture are snapshotted (code, severity, file, range, message,
+//! related, fixes).
 
 use std::{collections::HashMap, fs, path::Path};
 
 use higraph_analysis::{AnalysisHost, FileContents, LineIndex, WorkspaceData};
 
-/// Splits a fixture into files.
-fn files(text: &str) -> Vec<(String, String)> {
-    if !text.starts_with("//- ") {
-        return vec![("main.higraph".to_owned(), text.to_owned())];
+/// Splits a fixture into files (path, bytes).
+fn files(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
+    if !bytes.starts_with(b"//- ") {
+        return vec![("main.higraph".to_owned(), bytes.to_vec())];
     }
-    let mut files: Vec<(String, String)> = Vec::new();
-    for line in text.split_inclusive('\n') {
-        if let Some(path) = line.strip_prefix("//- ") {
-            files.push((path.trim().to_owned(), String::new()));
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+    for line in bytes.split_inclusive(|&b| b == b'\n') {
+        if let Some(path) = line.strip_prefix(b"//- ") {
+            files.push((String::from_utf8_lossy(path).trim().to_owned(), Vec::new()));
         } else if let Some((_, body)) = files.last_mut() {
-            body.push_str(line);
+            body.extend_from_slice(line);
         }
     }
     files
 }
 
 /// Runs the analysis over a fixture and renders every diagnostic, one per line.
-pub fn check_fixture(text: &str) -> Vec<(String, String)> {
+pub fn check_fixture(bytes: &[u8]) -> Vec<(String, String)> {
     let mut data = WorkspaceData::default();
     let mut imports = HashMap::new();
-    for (path, body) in files(text) {
-        if path == "higraph.toml" {
-            data.config = Some((path, body));
+    for (path, body) in files(bytes) {
+        if let Some(path) = path.strip_suffix(" !unreadable") {
+            data.files.push((path.to_owned(), FileContents::unreadable("Permission denied")));
+        } else if path == "higraph.toml" {
+            data.config = Some((path, String::from_utf8_lossy(&body).into_owned()));
         } else if path.ends_with(".higraph") {
-            data.files.push((path, FileContents::Text(body)));
+            data.files.push((path, FileContents::from_bytes(body)));
         } else {
-            imports.insert(path, Ok(body.into_bytes()));
+            imports.insert(path, Ok(body));
         }
     }
     data.imports = imports;
@@ -107,8 +111,8 @@ fn render(lines: &[(String, String)]) -> String {
 fn failing_fixtures_produce_their_code() {
     insta::glob!("../test_data/rules", "HG*/fail*.higraph", |path| {
         let code = code_of(path);
-        let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let lines = check_fixture(&text);
+        let bytes = fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let lines = check_fixture(&bytes);
         assert!(
             lines.iter().any(|(c, _)| *c == code),
             "{} should produce {code}:\n{}",
@@ -123,8 +127,8 @@ fn failing_fixtures_produce_their_code() {
 fn passing_fixtures_do_not_produce_their_code() {
     insta::glob!("../test_data/rules", "HG*/pass*.higraph", |path| {
         let code = code_of(path);
-        let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let lines = check_fixture(&text);
+        let bytes = fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let lines = check_fixture(&bytes);
         assert!(
             !lines.iter().any(|(c, _)| *c == code),
             "{} must not produce {code}:\n{}",
