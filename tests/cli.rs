@@ -10,3 +10,7 @@ mod check;
 mod parse;
 #[path = "cli/sarif.rs"]
 mod sarif;
+#[path = "cli/explain.rs"]
+mod explain;
+#[path = "cli/fmt.rs"]
+mod fmt;

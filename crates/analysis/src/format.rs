@@ -6,23 +6,35 @@
 //!   transition, instance, actual, symbol, option, step, condition, statement, …);
 //! * blank lines between members are kept, at most one; blank lines right after a `<` and
 //!   right before a `>` are dropped;
-//! * comments stay where they are: a comment at the end of a line stays at the end of that
-//!   line, a comment on its own line stays on its own line (indented like the member after
-//!   it). A comment inside a construct that would otherwise go on one line makes it multi-line;
-//! * keywords in lower case; STL operations, block labels, action qualifiers, address areas and
-//!   the known type names in upper case; everything else (identifiers, strings, constants)
-//!   exactly as written. Mnemonics are not translated (that is the HG4007 quick fix);
-//! * a state, transition or `permanent` body holding at most one item (a block with at most
-//!   one statement, or a `wait`/`supervise` item) stays on the header's line:
-//!   `state 4 "Auf" < C: = Auf; >`; otherwise each label goes on its own line with its
-//!   statements below it, indented once more;
+//! * comments stay where they are: a comment at the end of a line stays at the end of the line
+//!   of the token before it (after one space), a comment on its own line stays on its own line
+//!   (indented like the member after it). A comment inside a construct that would otherwise go
+//!   on one line makes it multi-line; a comment inside a statement continues the statement on
+//!   the next line, indented once more;
+//! * keywords in lower case, also the values of `mode` and `switching` (in the grammar's
+//!   spelling: `auto`, `T_or_B`); STL operations, block labels, action qualifiers, address
+//!   areas and the known type names in upper case; everything else (identifiers, strings,
+//!   constants, option names) exactly as written. Mnemonics are not translated (that is the
+//!   HG4007 quick fix);
+//! * a state, transition or `permanent` body holding at most one block with at most one
+//!   statement stays on the header's line: `state 4 "Auf" < C: = Auf; >`, also with `wait` and
+//!   `supervise` items, which are not blocks (`< C: = #Ab; supervise T#10S; >`); otherwise each
+//!   label goes on its own line with its statements below it, indented once more, and `wait`
+//!   and `supervise` items go on their own lines at the labels' level;
 //! * a variable section stays on one line when it fits in [`MAX_WIDTH`] columns;
+//! * next to a `// higraph-allow:` comment (before the construct, or at the end of its last
+//!   line), a body keeps the input's choice between one line and several, because the comment
+//!   suppresses diagnostics on its own line and the next one only;
 //! * transition headers are `trans A->B prio N [auto] [manual] [waits] [fault] ["name"]`, with
 //!   the implicit priority (diagnostics.md §2.6, [`implicit_priorities`]) written out; state
 //!   headers are `state N ["name"] [fault] [message]` (attributes keep their order);
 //! * `:=` of the actuals of an instance and `:` of the symbols of a table are aligned (over
 //!   the whole block);
 //! * one space around `:=` and `:`, none around `->`, none before `;` and `,`, one after `,`;
+//!   one space between an operation and its operand, except after `+` and `)` where an operand
+//!   that touched the operation keeps touching it (`+AR1`, `)MCR` are operations of their
+//!   own); the spacing inside addresses, constants and indirect operands is kept (`E 1.0` and
+//!   `E1.0` differ: the second is a name in a chart), only runs of blanks become one space;
 //! * charts (decisions where the spec is silent): a step, transition, jump, loop, `start`,
 //!   `pre`, `post`, `init`, `run` or `term` body holding at most one entry (condition,
 //!   statement, step item) stays on one line, like state bodies; sequencers, `parallel`,
@@ -43,13 +55,15 @@ use std::collections::{HashMap, HashSet};
 use std::fmt;
 
 use higraph_syntax::{
-    SyntaxElement, SyntaxError, SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken, TextSize,
+    SyntaxElement, SyntaxError, SyntaxKind,
+    SyntaxKind::*,
+    SyntaxNode, SyntaxToken, TextSize,
     ast::{self, AstNode, EndpointKind},
     parse,
     rowan::NodeOrToken,
 };
 
-/// Variable sections wider than this stay on one line only if they fit.
+/// A variable section stays on one line if that line is at most this many columns wide.
 pub const MAX_WIDTH: usize = 100;
 
 /// One level of indentation.
@@ -184,9 +198,7 @@ pub fn implicit_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
             EndpointKind::Return => None,
             EndpointKind::State => {
                 let number = normalise_number(source.token()?.text());
-                states
-                    .contains(&number)
-                    .then_some(PrioRange::State(number))
+                states.contains(&number).then_some(PrioRange::State(number))
             }
         }
     };
@@ -252,14 +264,15 @@ fn normalise_number(text: &str) -> String {
 
 /// A digit string as a number; too large values become `u64::MAX`.
 fn parse_saturating(text: &str) -> u64 {
-    text.bytes().try_fold(0u64, |acc, b| {
-        if b.is_ascii_digit() {
-            Some(acc.saturating_mul(10).saturating_add(u64::from(b - b'0')))
-        } else {
-            None
-        }
-    })
-    .unwrap_or(u64::MAX)
+    text.bytes()
+        .try_fold(0u64, |acc, b| {
+            if b.is_ascii_digit() {
+                Some(acc.saturating_mul(10).saturating_add(u64::from(b - b'0')))
+            } else {
+                None
+            }
+        })
+        .unwrap_or(u64::MAX)
 }
 
 /// The highest priority the formatter writes out: larger implicit priorities are an error
@@ -375,6 +388,31 @@ impl TokenTable {
         count(to + 1) > count(from)
     }
 
+    /// Are there line breaks before any of the tokens `from..=to`?
+    fn line_breaks_in(&self, from: usize, to: usize) -> bool {
+        (from..=to).any(|i| {
+            self.gaps
+                .get(i)
+                .is_some_and(|gap| gap.newlines_before_token > 0 || !gap.comments.is_empty())
+        })
+    }
+
+    /// Is there a `// higraph-allow:` comment right before token `first` (on its line or the
+    /// line before), or at the end of the line of token `last`?
+    fn allow_comment_around(&self, first: usize, last: usize) -> bool {
+        let is_allow = |comment: &GapComment| comment.text.contains("higraph-allow");
+        let before = self
+            .gaps
+            .get(first)
+            .is_some_and(|gap| gap.comments.iter().any(is_allow));
+        let after = self.gaps.get(last + 1).is_some_and(|gap| {
+            gap.comments
+                .first()
+                .is_some_and(|c| c.newlines_before == 0 && is_allow(c))
+        });
+        before || after
+    }
+
     /// Does token `i` touch the token before it?
     fn touching(&self, i: usize) -> bool {
         self.gaps.get(i).is_some_and(|gap| gap.touching)
@@ -434,6 +472,8 @@ impl Sep {
 struct Piece {
     /// The input token it comes from; `None` for text the formatter adds (a priority).
     token: Option<usize>,
+    /// Where that token starts in the input.
+    start: Option<TextSize>,
     text: String,
     kind: SyntaxKind,
     /// The kind of the token's parent node.
@@ -612,10 +652,13 @@ impl<'t> Emitter<'t> {
 
     /// Writes a unit: its first piece at `place`, the others after their separators.
     fn pieces(&mut self, place: Place, pieces: &[Piece]) {
-        let mut place = place;
-        for piece in pieces {
+        for (i, piece) in pieces.iter().enumerate() {
+            let place = if i == 0 {
+                place
+            } else {
+                Place::Inline(piece.sep)
+            };
             self.piece(place, piece);
-            place = Place::Inline(piece.sep);
         }
     }
 
@@ -692,8 +735,8 @@ const TYPE_NAMES: &[&str] = &[
 const AREAS: &[&str] = &[
     "E", "A", "M", "L", "I", "Q", "EB", "EW", "ED", "AB", "AW", "AD", "MB", "MW", "MD", "LB", "LW",
     "LD", "IB", "IW", "ID", "QB", "QW", "QD", "PEB", "PEW", "PED", "PAB", "PAW", "PAD", "PIB",
-    "PIW", "PID", "PQB", "PQW", "PQD", "DBX", "DBB", "DBW", "DBD", "DIX", "DIB", "DIW", "DID", "T",
-    "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
+    "PIW", "PID", "PQB", "PQW", "PQD", "PE", "PA", "PI", "PQ", "DBX", "DBB", "DBW", "DBD", "DIX",
+    "DIB", "DIW", "DID", "T", "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
 ];
 
 /// An identifier inside an address that is an area, optionally followed by digits (`E`, `MW`,
@@ -712,9 +755,9 @@ fn looks_like_db_address(node: &SyntaxNode) -> bool {
         .collect();
     match words.as_slice() {
         [first, second] => {
-            let db = first.strip_prefix("DB").is_some_and(|n| {
-                !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())
-            });
+            let db = first
+                .strip_prefix("DB")
+                .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
             let access = ["DBX", "DBB", "DBW", "DBD"].iter().any(|a| {
                 second
                     .strip_prefix(a)
@@ -726,12 +769,33 @@ fn looks_like_db_address(node: &SyntaxNode) -> bool {
     }
 }
 
+/// The value of a chart property (`mode auto;`, `switching T_or_B;`) in the spelling of the
+/// grammar, if it is one of the values the grammar lists for that property.
+fn chart_prop_value(token: &SyntaxToken) -> Option<&'static str> {
+    let prop = token.parent()?.parent()?;
+    if token.parent()?.kind() != NAME_REF || prop.kind() != CHART_PROP {
+        return None;
+    }
+    let values: &[&'static str] = match significant_tokens(&prop).next()?.kind() {
+        MODE_KW => &["auto", "manual"],
+        SWITCHING_KW => &["T", "B", "T_or_B", "T_and_B", "step"],
+        _ => return None,
+    };
+    values
+        .iter()
+        .copied()
+        .find(|value| value.eq_ignore_ascii_case(token.text()))
+}
+
 /// The text a token is written with.
 fn token_text(token: &SyntaxToken) -> String {
     let text = token.text();
     let kind = token.kind();
     if kind.is_keyword() {
         return text.to_ascii_lowercase();
+    }
+    if let Some(value) = chart_prop_value(token) {
+        return value.to_owned();
     }
     let parent = token.parent().map(|p| p.kind());
     match parent {
@@ -748,13 +812,27 @@ fn token_text(token: &SyntaxToken) -> String {
     }
 }
 
-/// The separator between two pieces that belong to different nodes.
-fn boundary_sep(prev: Option<&Piece>, next: &Piece) -> Sep {
+/// The separator between two pieces that belong to different nodes. `next_token` is the
+/// token of `next` (`None` for added text).
+fn boundary_sep(prev: Option<&Piece>, next: &Piece, next_token: Option<&SyntaxToken>) -> Sep {
     let Some(prev) = prev else {
         return Sep::Space;
     };
+    if next.kind == SEMI {
+        // A `;` touches what it ends (`U x;`, `A : BOOL;`), but an empty statement stands
+        // apart (`< ; >`, `E: ;`, `M001: ;`).
+        let ends_construct = match (next_token.and_then(|t| t.parent()), prev.start) {
+            (Some(parent), Some(start)) => parent.text_range().contains(start),
+            _ => false,
+        };
+        return if ends_construct && prev.parent != JUMP_LABEL {
+            Sep::Join
+        } else {
+            Sep::Space
+        };
+    }
     let in_parens = |parent: SyntaxKind| matches!(parent, PARAM_LIST | PAREN_EXPR);
-    if matches!(next.kind, SEMI | COMMA)
+    if next.kind == COMMA
         || (prev.kind == L_PAREN && in_parens(prev.parent))
         || (next.kind == R_PAREN && in_parens(next.parent))
         || prev.parent == ARROW
@@ -834,6 +912,7 @@ impl Formatter<'_> {
     fn piece(&self, token: &SyntaxToken) -> Piece {
         Piece {
             token: self.tokens.index_of(token),
+            start: Some(token.text_range().start()),
             text: token_text(token),
             kind: token.kind(),
             parent: token.parent().map_or(SOURCE_FILE, |p| p.kind()),
@@ -847,8 +926,23 @@ impl Formatter<'_> {
             return;
         }
         let mut piece = self.piece(token);
-        piece.sep = boundary_sep(out.last(), &piece);
+        piece.sep = self.boundary(out.last(), &piece, token);
         out.push(piece);
+    }
+
+    /// The separator before `piece` (of `token`) after `prev` from another node: the rules of
+    /// [`boundary_sep`], except that an operand touching a `+` or `)` opcode keeps touching it:
+    /// `+AR1` and `)MCR` are STEP 7 operations of their own (HG4003), while `+ AR1` adds a
+    /// constant and `) MCR` closes a bracket.
+    fn boundary(&self, prev: Option<&Piece>, piece: &Piece, token: &SyntaxToken) -> Sep {
+        let after_punctuation =
+            prev.is_some_and(|p| p.parent == OPCODE && matches!(p.kind, PLUS | R_PAREN));
+        let touching = piece.token.is_some_and(|i| self.tokens.touching(i));
+        if after_punctuation && touching && token.kind() != SEMI {
+            Sep::Join
+        } else {
+            boundary_sep(prev, piece, Some(token))
+        }
     }
 
     /// Appends the whole element on one line.
@@ -864,13 +958,12 @@ impl Formatter<'_> {
         let joined = JOINED.contains(&kind);
         let preserved = PRESERVED.contains(&kind);
         if joined || preserved {
-            let keep_spacing =
-                preserved && (kind != MESSAGE_TARGET || looks_like_db_address(node));
+            let keep_spacing = preserved && (kind != MESSAGE_TARGET || looks_like_db_address(node));
             let mut first = true;
             for token in significant_tokens(node) {
                 let mut piece = self.piece(&token);
                 piece.sep = if first {
-                    boundary_sep(out.last(), &piece)
+                    self.boundary(out.last(), &piece, &token)
                 } else if keep_spacing {
                     match piece.token {
                         Some(i) if !self.tokens.touching(i) => Sep::Space,
@@ -934,11 +1027,6 @@ impl Formatter<'_> {
         }
     }
 
-    /// Are there comments inside the node (after its first token, up to its last)?
-    fn has_inner_comments(&self, node: &SyntaxNode) -> bool {
-        self.comments_within(&[NodeOrToken::Node(node.clone())])
-    }
-
     /// The header of a node (everything before its `<`). State and transition headers are put
     /// in canonical order, and a transition's implicit priority is written out.
     fn header_pieces(&self, node: &SyntaxNode, out: &mut Vec<Piece>) {
@@ -966,6 +1054,7 @@ impl Formatter<'_> {
                     if let Some(&prio) = self.prios.get(&node.text_range().start()) {
                         out.push(Piece {
                             token: None,
+                            start: None,
                             text: "prio".to_owned(),
                             kind: PRIO_KW,
                             parent: PRIO_CLAUSE,
@@ -973,6 +1062,7 @@ impl Formatter<'_> {
                         });
                         out.push(Piece {
                             token: None,
+                            start: None,
                             text: prio.to_string(),
                             kind: NUMBER,
                             parent: PRIO_CLAUSE,
@@ -1000,10 +1090,12 @@ impl Formatter<'_> {
                 }
             }
             STATE if reorder => {
-                let is_kind = |e: &SyntaxElement, kind| e.as_node().is_some_and(|n| n.kind() == kind);
-                for element in header.iter().filter(|e| {
-                    !is_kind(e, COMMENT_STRING) && !is_kind(e, ATTRIBUTE)
-                }) {
+                let is_kind =
+                    |e: &SyntaxElement, kind| e.as_node().is_some_and(|n| n.kind() == kind);
+                for element in header
+                    .iter()
+                    .filter(|e| !is_kind(e, COMMENT_STRING) && !is_kind(e, ATTRIBUTE))
+                {
                     self.collect(element.clone(), out);
                 }
                 for element in header.iter().filter(|e| is_kind(e, COMMENT_STRING)) {
@@ -1041,24 +1133,37 @@ impl Formatter<'_> {
         if self.comments_within(&body_elements) {
             return false;
         }
+        // A `// higraph-allow:` comment covers its own line and the next one, so next to one
+        // the input's choice between one line and several is kept: joining or splitting lines
+        // would change which diagnostics it suppresses.
+        let indices: Vec<usize> = significant_tokens(node)
+            .filter_map(|t| self.tokens.index_of(&t))
+            .collect();
+        if let (Some(&first), Some(&last)) = (indices.first(), indices.last()) {
+            if self.tokens.allow_comment_around(first, last) {
+                return !self.tokens.line_breaks_in(first + 1, last);
+            }
+        }
         let members = &split.members;
         if members.is_empty() {
             return true;
         }
         match node.kind() {
             STATE | TRANS | PERMANENT => {
-                members.len() == 1
-                    && members.iter().all(|m| {
-                        m.kind() != BLOCK || m.children().filter(|c| c.kind() == STL_STMT).count() <= 1
-                    })
+                // At most one block with at most one statement; `wait` and `supervise` items
+                // are not blocks (`state 2 "Ab" < C: = #Ab; supervise T#10S; >`).
+                let blocks: Vec<&SyntaxNode> =
+                    members.iter().filter(|m| m.kind() == BLOCK).collect();
+                blocks.len() <= 1
+                    && blocks
+                        .iter()
+                        .all(|block| block.children().filter(|c| c.kind() == STL_STMT).count() <= 1)
             }
             START_PART | PRE_PART | POST_PART | STEP_PHASE | CHART_TRANS | JUMP | LOOP => {
                 members.len() == 1
             }
             STEP => members.len() == 1 && members.iter().all(|m| self.fits_on_one_line(m, indent)),
-            VAR_SECTION => {
-                INDENT.len() * indent + width(&self.inline(node)) <= MAX_WIDTH
-            }
+            VAR_SECTION => INDENT.len() * indent + width(&self.inline(node)) <= MAX_WIDTH,
             _ => false,
         }
     }
@@ -1159,9 +1264,11 @@ impl Formatter<'_> {
             .unwrap_or(0);
         for (member, mut pieces) in members.iter().zip(lines) {
             if member.kind() == kind {
-                if let (Some(at), Some(w)) = (pieces.iter().position(&is_anchor), before_anchor(&pieces)) {
+                if let (Some(at), Some(w)) =
+                    (pieces.iter().position(&is_anchor), before_anchor(&pieces))
+                {
                     if at > 0 {
-                        pieces[at].sep = Sep::Pad(column - w + 1);
+                        pieces[at].sep = Sep::Pad(column.saturating_sub(w) + 1);
                     }
                 }
             }
@@ -1189,7 +1296,8 @@ fn stream_token(token: &SyntaxToken, out: &mut Vec<String>) {
     }
     let parent = token.parent().map_or(SOURCE_FILE, |p| p.kind());
     let folded = token.kind().is_keyword()
-        || matches!(parent, OPCODE | LABEL | QUALIFIER | TYPE_REF | ADDRESS);
+        || matches!(parent, OPCODE | LABEL | QUALIFIER | TYPE_REF | ADDRESS)
+        || chart_prop_value(token).is_some();
     let text = if folded {
         token.text().to_ascii_lowercase()
     } else {
@@ -1213,7 +1321,9 @@ fn stream_node(node: &SyntaxNode, prios: &HashMap<TextSize, u64>, out: &mut Vec<
     let mut rest: Vec<SyntaxElement> = Vec::new();
     for child in node.children_with_tokens() {
         match &child {
-            NodeOrToken::Node(n) if matches!(n.kind(), PRIO_CLAUSE | ATTRIBUTE | COMMENT_STRING) => {
+            NodeOrToken::Node(n)
+                if matches!(n.kind(), PRIO_CLAUSE | ATTRIBUTE | COMMENT_STRING) =>
+            {
                 let rank = match n.kind() {
                     PRIO_CLAUSE => {
                         has_prio = true;

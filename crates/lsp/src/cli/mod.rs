@@ -3,6 +3,10 @@
 //! unreadable input and ends with status 2 and a message on stderr, never a panic.
 
 mod check;
+mod explain;
+// `fmt` itself would clash with `std::fmt`.
+#[path = "fmt.rs"]
+mod fmt_command;
 mod output;
 mod parse;
 mod workspace;
@@ -33,6 +37,10 @@ enum Command {
     Check(CheckArgs),
     /// Print the syntax tree of a file (for debugging the parser).
     Parse(ParseArgs),
+    /// Rewrite files in the canonical layout (`--check`: only list files that would change).
+    Fmt(FmtArgs),
+    /// Print the documentation of a diagnostic code (what, why, example, fix).
+    Explain(ExplainArgs),
 }
 
 /// Arguments of `higraph-lsp check`.
@@ -56,6 +64,28 @@ pub(crate) struct CheckArgs {
     /// When to colour the human output.
     #[arg(long, value_enum, value_name = "WHEN", default_value_t = ColorChoice::Auto)]
     pub color: ColorChoice,
+}
+
+/// Arguments of `higraph-lsp fmt`.
+#[derive(Debug, Args)]
+pub(crate) struct FmtArgs {
+    /// Change nothing: list the files that would be reformatted and exit with status 1 if
+    /// there are any.
+    #[arg(long)]
+    pub check: bool,
+    /// Files or folders to format (default: the current folder). Only `.higraph` files of the
+    /// workspace are formatted, minus those `higraph.toml` excludes; files named here are
+    /// always formatted.
+    #[arg(value_name = "PATH")]
+    pub paths: Vec<PathBuf>,
+}
+
+/// Arguments of `higraph-lsp explain`.
+#[derive(Debug, Args)]
+pub(crate) struct ExplainArgs {
+    /// A diagnostic code such as HG2105 (any letter case).
+    #[arg(value_name = "CODE")]
+    pub code: String,
 }
 
 /// Arguments of `higraph-lsp parse`.
@@ -126,6 +156,8 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Some(Command::Check(args)) => check::run(&args),
         Some(Command::Parse(args)) => parse::run(&args),
+        Some(Command::Fmt(args)) => fmt_command::run(&args),
+        Some(Command::Explain(args)) => explain::run(&args),
         None => {
             // The language server will run here; until then, show what there is.
             let _ = Cli::command().print_help();
