@@ -1,9 +1,10 @@
 //! `higraph-lsp check`: workspace discovery, selection by PATH, the output formats of
 //! `diagnostics.md` §4.1–4.2 and the exit status of §4.3.
 //!
-//! The parser is still being written, so these tests assert exact output only for the lexer's
-//! diagnostics (HG0004, HG0005, HG0009), which are final, in inputs that are otherwise valid;
-//! elsewhere they assert structure.
+//! The exact-output tests use a workspace whose only diagnostics come from the lexer (HG0004,
+//! HG0005, HG0009); its `higraph.toml` switches off the two semantic rules its deliberately
+//! tiny graphs would otherwise trigger (no startup transition, unused variable). Semantic
+//! rules have their own fixtures in `crates/analysis`.
 
 use serde_json::Value;
 
@@ -14,7 +15,7 @@ use crate::support::{Run, TempTree};
 /// a CR LF file, an unclosed character constant.
 fn lexer_workspace() -> TempTree {
     let tree = TempTree::new();
-    tree.file("higraph.toml", "")
+    tree.file("higraph.toml", "[diagnostics]\nHG2201 = \"off\"\nHG1210 = \"off\"\n")
         .file(
             "graphs/ventil.higraph",
             "// Ventil für Öl\ngraph Ventil \"😀 Ventil\" < in < Zähler : INT; > >\n",
