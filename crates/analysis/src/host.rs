@@ -112,20 +112,56 @@ impl AnalysisHost {
         }
     }
 
+    /// Adds a `.higraph` file, or sets its contents if it exists. Keeps workspace order.
+    pub fn upsert_file(&mut self, path: &str, contents: FileContents) {
+        if self.set_file_contents(path, contents.clone()) {
+            return;
+        }
+        let Some(ws) = self.workspace else {
+            self.load(WorkspaceData { files: vec![(path.to_owned(), contents)], ..Default::default() });
+            return;
+        };
+        let file = File::new(&self.db, path.to_owned(), Arc::new(contents));
+        self.files.insert(path.to_owned(), file);
+        let mut files = ws.files(&self.db).clone();
+        let at = files.partition_point(|f| f.path(&self.db).as_str() < path);
+        files.insert(at, file);
+        ws.set_files(&mut self.db).to(files);
+    }
+
+    /// Removes a `.higraph` file from the workspace. Returns `false` if there was none.
+    pub fn remove_file(&mut self, path: &str) -> bool {
+        let (Some(ws), Some(file)) = (self.workspace, self.files.remove(path)) else {
+            return false;
+        };
+        let files: Vec<File> = ws.files(&self.db).iter().copied().filter(|&f| f != file).collect();
+        ws.set_files(&mut self.db).to(files);
+        true
+    }
+
+    /// The paths of the workspace's `.higraph` files, in workspace order.
+    pub fn paths(&self) -> Vec<String> {
+        match self.workspace {
+            Some(ws) => ws.files(&self.db).iter().map(|f| f.path(&self.db).clone()).collect(),
+            None => Vec::new(),
+        }
+    }
+
     /// A snapshot for queries.
     pub fn analysis(&self) -> Analysis {
-        Analysis {
-            db: self.db.clone(),
-            workspace: self.workspace,
-        }
+        Analysis { db: self.db.clone(), workspace: self.workspace }
     }
 }
 
-/// A read-only snapshot of the database.
+/// A read-only snapshot of the database. Every query may be cancelled when the host changes
+/// the database: the `Cancellable` methods then return `Err(Cancelled)`.
 pub struct Analysis {
-    db: RootDatabase,
-    workspace: Option<Workspace>,
+    pub(crate) db: RootDatabase,
+    pub(crate) workspace: Option<Workspace>,
 }
+
+/// The result of a query on a snapshot that the host may cancel.
+pub type Cancellable<T> = Result<T, salsa::Cancelled>;
 
 /// A file diagnostics may refer to.
 #[derive(Debug, Clone)]
@@ -155,5 +191,33 @@ impl Analysis {
             Some(ws) => check::all_diagnostics(&self.db, ws),
             None => Vec::new(),
         }
+    }
+
+    /// Like [`Analysis::diagnostics`], but returns `Err` instead of unwinding when the host
+    /// changed the database meanwhile.
+    pub fn diagnostics_cancellable(&self) -> Cancellable<Vec<(FileId, Vec<Diagnostic>)>> {
+        self.with_db(|_, _| self.diagnostics())
+    }
+
+    /// Runs `f` on the database and workspace, turning salsa's cancellation into `Err`.
+    /// Without a workspace, `f` is not run and the default value is returned.
+    pub(crate) fn with_db<T: Default>(
+        &self,
+        f: impl FnOnce(&dyn salsa::Database, Workspace) -> T,
+    ) -> Cancellable<T> {
+        let Some(ws) = self.workspace else { return Ok(T::default()) };
+        let db = &self.db;
+        salsa::Cancelled::catch(std::panic::AssertUnwindSafe(|| f(db, ws)))
+    }
+
+    /// The salsa file of a workspace-relative path (a `.higraph` file).
+    pub(crate) fn file(&self, path: &str) -> Option<File> {
+        let ws = self.workspace?;
+        ws.files(&self.db).iter().copied().find(|f| f.path(&self.db) == path)
+    }
+
+    /// The contents of a `.higraph` file, if it is in the workspace.
+    pub fn file_contents(&self, path: &str) -> Option<Arc<FileContents>> {
+        self.file(path).map(|f| f.contents(&self.db).clone())
     }
 }

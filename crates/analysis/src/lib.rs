@@ -19,6 +19,7 @@ mod diagnostic;
 mod file_contents;
 pub mod format;
 mod host;
+pub mod ide;
 pub mod index;
 pub mod lang;
 mod line_index;
@@ -32,7 +33,7 @@ pub use diagnostic::{
     Code, Diagnostic, DiagnosticTag, FileId, Fix, RelatedInfo, Severity, TextEdit,
 };
 pub use file_contents::FileContents;
-pub use host::{Analysis, AnalysisHost, OutputFile, WorkspaceData};
+pub use host::{Analysis, AnalysisHost, Cancellable, OutputFile, WorkspaceData};
 pub use line_index::{LineColumn, LineIndex, Position, PositionEncoding};
 
 pub use higraph_syntax::{TextRange, TextSize};

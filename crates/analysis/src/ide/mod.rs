@@ -1,0 +1,100 @@
+//! Editor features, one module per feature, each an `impl Analysis` block with its tests at
+//! the bottom. Positions are byte offsets into a file's text; the language server converts
+//! them to and from the client's encoding. Every method runs on a snapshot and returns
+//! [`Cancellable`](crate::Cancellable): `Err` when an edit arrived meanwhile.
+//!
+//! | module            | feature |
+//! |-------------------|---------|
+//! | `defs`            | what a position refers to; all references of a definition |
+//! | `goto_definition` | go to definition |
+//! | `references`      | find all references (go-to-usage) |
+//! | `highlights`      | document highlights with read/write kind |
+//! | `rename`          | prepare rename and workspace-wide rename |
+//! | `hover`           | hover text |
+//! | `completion`      | context-aware completion |
+//! | `inlay_hints`     | state names after `trans a->b`, formal types after actuals |
+//! | `symbols`         | document symbols (hierarchical) and workspace symbols |
+//! | `semantic_tokens` | semantic highlighting |
+//! | `folding`         | folding ranges and selection ranges |
+//! | `code_actions`    | quick fixes from diagnostics; formatting edits |
+
+use higraph_syntax::{TextRange, TextSize};
+
+/// A position in a workspace file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct FilePosition {
+    /// Workspace-relative path.
+    pub path: String,
+    pub offset: TextSize,
+}
+
+/// A range in a workspace file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct FileRange {
+    pub path: String,
+    pub range: TextRange,
+}
+
+/// One replacement in a file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Edit {
+    pub range: TextRange,
+    pub new_text: String,
+}
+
+/// Edits to several files, applied together.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SourceChange {
+    /// Per file (workspace-relative path), non-overlapping edits sorted by range.
+    pub files: Vec<(String, Vec<Edit>)>,
+}
+
+impl SourceChange {
+    /// Adds an edit, keeping files and edits sorted.
+    pub fn insert(&mut self, path: &str, edit: Edit) {
+        let index = match self.files.binary_search_by(|(p, _)| p.as_str().cmp(path)) {
+            Ok(i) => i,
+            Err(i) => {
+                self.files.insert(i, (path.to_owned(), Vec::new()));
+                i
+            }
+        };
+        let edits = &mut self.files[index].1;
+        let at = edits.partition_point(|e| e.range.start() < edit.range.start());
+        if !edits.contains(&edit) {
+            edits.insert(at, edit);
+        }
+    }
+}
+
+/// What kind of thing a symbol or target is (for icons and document symbols).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SymbolKind {
+    Graph,
+    Group,
+    Chart,
+    Symbol,
+    BlockInterface,
+    Variable,
+    Message,
+    PredefinedVariable,
+    State,
+    Transition,
+    Instance,
+    Sequencer,
+    Step,
+    ChartTransition,
+    Section,
+}
+
+/// Something to navigate to.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct NavigationTarget {
+    pub path: String,
+    /// The whole declaration.
+    pub full_range: TextRange,
+    /// The name (what to select).
+    pub focus_range: TextRange,
+    pub name: String,
+    pub kind: SymbolKind,
+}
