@@ -29,7 +29,7 @@ pub struct FilePosition {
 }
 
 /// A range in a workspace file.
-#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct FileRange {
     pub path: String,
     pub range: TextRange,
