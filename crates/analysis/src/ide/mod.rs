@@ -20,6 +20,9 @@
 
 use higraph_syntax::{TextRange, TextSize};
 
+#[cfg(test)]
+pub(crate) mod fixture;
+
 /// A position in a workspace file.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct FilePosition {
