@@ -23,6 +23,7 @@ pub mod ide;
 pub mod index;
 pub mod lang;
 mod line_index;
+pub mod model;
 pub mod registry;
 mod resolve;
 pub mod rules;
