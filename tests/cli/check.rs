@@ -15,17 +15,20 @@ use crate::support::{Run, TempTree};
 /// a CR LF file, an unclosed character constant.
 fn lexer_workspace() -> TempTree {
     let tree = TempTree::new();
-    tree.file("higraph.toml", "[diagnostics]\nHG2201 = \"off\"\nHG1210 = \"off\"\n")
-        .file(
-            "graphs/ventil.higraph",
-            "// Ventil für Öl\ngraph Ventil \"😀 Ventil\" < in < Zähler : INT; > >\n",
-        )
-        .file("graphs/pumpe.higraph", "graph Pumpe \"Pumpe\r\n<\r\n>\r\n")
-        .file(
-            "motor.higraph",
-            "graph Motor <\n  stat < Zeichen : CHAR := 'x\n  ; >\n>\n",
-        )
-        .file("clean.higraph", "// nothing to see here\n");
+    tree.file(
+        "higraph.toml",
+        "[diagnostics]\nHG2201 = \"off\"\nHG1210 = \"off\"\n",
+    )
+    .file(
+        "graphs/ventil.higraph",
+        "// Ventil für Öl\ngraph Ventil \"😀 Ventil\" < in < Zähler : INT; > >\n",
+    )
+    .file("graphs/pumpe.higraph", "graph Pumpe \"Pumpe\r\n<\r\n>\r\n")
+    .file(
+        "motor.higraph",
+        "graph Motor <\n  stat < Zeichen : CHAR := 'x\n  ; >\n>\n",
+    )
+    .file("clean.higraph", "// nothing to see here\n");
     tree
 }
 
@@ -608,12 +611,12 @@ fn help_and_version() {
             "{option} missing from:\n{check_help}"
         );
     }
-    // No arguments: help, for now (the language server comes later).
+    // No arguments: the language server, which ends with status 1 when its input ends
+    // without `exit` (LSP 3.17); `lsp --help` explains it.
     let bare = tree.run(".", &[]);
-    assert_eq!(bare.status, 0);
-    assert!(
-        bare.stdout.contains("check") && bare.stdout.contains("parse"),
-        "{}",
-        bare.stdout
-    );
+    assert_eq!(bare.status, 1, "{bare:?}");
+    assert_eq!(bare.stdout, "");
+    let lsp_help = tree.run(".", &["lsp", "--help"]);
+    assert_eq!(lsp_help.status, 0);
+    assert!(lsp_help.stdout.contains("--stdio"), "{}", lsp_help.stdout);
 }

@@ -170,6 +170,15 @@ impl GlobalIndex {
             .map(|&i| &self.symbols[i])
     }
 
+    /// The position in [`GlobalIndex::symbols`] of the first symbol of that name (the one
+    /// references bind to).
+    pub fn symbol_position(&self, name: &str) -> Option<usize> {
+        self.symbols_by_name
+            .get(&key(name))
+            .and_then(|v| v.first())
+            .copied()
+    }
+
     /// Every symbol of that name, in workspace order.
     pub fn symbols_named(&self, name: &str) -> impl Iterator<Item = &Symbol> {
         self.symbols_by_name
@@ -240,8 +249,14 @@ pub fn item_symbols<'db>(
 
 /// The type written in a declaration (`STRING[n]` with its length), if it is a known type.
 pub fn declared_type(ty: &ast::TypeRef) -> Option<Type> {
+    declared_type_in(ty, false)
+}
+
+/// [`declared_type`]; `interface` allows the block-interface-only types (POINTER, ANY, the
+/// block types).
+pub(crate) fn declared_type_in(ty: &ast::TypeRef, interface: bool) -> Option<Type> {
     let name = ty.name()?;
-    let parsed = Type::from_name(name.text(), false)?;
+    let parsed = Type::from_name(name.text(), interface)?;
     match (parsed, ty.length()) {
         (Type::String(_), Some(len)) => len.text().parse::<u16>().ok().map(Type::String),
         (parsed, _) => Some(parsed),

@@ -186,6 +186,25 @@ impl Section {
     }
 }
 
+/// Can `name` be written without quotes: a letter or `_`, then letters, digits and `_`?
+pub(crate) fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// How `name` is written as an operand: bare if it is an identifier, else in quotes (a global
+/// symbol such as `"Motor 1"`).
+pub(crate) fn operand_spelling(name: &str) -> String {
+    if is_identifier(name) {
+        name.to_owned()
+    } else {
+        format!("\"{name}\"")
+    }
+}
+
 /// A predefined variable of every graph (`language.md` §3.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Predefined {

@@ -25,7 +25,7 @@ use crate::{
     closest,
     index::{self, Symbol},
     lang::{self, Mnemonic, Predefined, Section, Type},
-    rules::Ctx,
+    rules::{Ctx, decls},
 };
 
 // ------------------------------------------------------------------------------ scope
@@ -113,10 +113,7 @@ impl GraphScope {
     }
 
     fn add_section(&mut self, section: &ast::VarSection) {
-        let Some(kind) = section
-            .keyword()
-            .and_then(|k| Section::from_keyword(k.text()))
-        else {
+        let Some(kind) = decls::section_kind(section) else {
             return;
         };
         let close = section
@@ -487,11 +484,7 @@ fn resolve_name<'a>(
             let mut candidates = variable_candidates(scope);
             candidates.extend(index.symbols.iter().map(|s| s.name.clone()));
             if let Some(best) = closest::closest(name, candidates.iter().map(String::as_str)) {
-                let text = if is_identifier(best) {
-                    best.to_owned()
-                } else {
-                    format!("\"{best}\"")
-                };
+                let text = lang::operand_spelling(best);
                 diag = diag.fix(format!("Replace with '{text}'"), ctx.loc(reference), text);
             }
             diag = declare_fix(ctx, scope, diag, name, usage.implied);
@@ -739,7 +732,7 @@ fn declare_fix(
     implied: Option<Type>,
 ) -> crate::diag::Diag {
     let Some(ty) = implied else { return diag };
-    if !is_identifier(name) {
+    if !lang::is_identifier(name) {
         return diag;
     }
     match in_declaration_edit(ctx, scope, name, ty) {
@@ -917,7 +910,7 @@ fn pointer_is_valid(ctx: &mut Ctx<'_>, range: TextRange, text: &str, lit: &Liter
 }
 
 /// HG4012: temporary local data.
-fn local_data_warning(ctx: &mut Ctx<'_>, range: TextRange, written: &str, addr: &Address) {
+pub(crate) fn local_data_warning(ctx: &mut Ctx<'_>, range: TextRange, written: &str, addr: &Address) {
     if addr.area == Area::Local {
         let message = format!(
             "'{written}' is temporary local data of the generated FC; its value is not kept"
@@ -1017,13 +1010,4 @@ pub(crate) fn string_inner_range(token: &higraph_syntax::SyntaxToken) -> TextRan
     } else {
         range
     }
-}
-
-/// Can `name` be written without quotes?
-fn is_identifier(name: &str) -> bool {
-    let mut chars = name.chars();
-    chars
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }

@@ -22,6 +22,29 @@ use higraph_syntax::{TextRange, TextSize};
 
 #[cfg(test)]
 pub(crate) mod fixture;
+mod code_actions;
+mod completion;
+pub mod defs;
+mod goto_definition;
+mod highlights;
+mod hover;
+mod references;
+mod rename;
+mod folding;
+mod inlay_hints;
+mod semantic_tokens;
+mod symbols;
+
+pub use code_actions::CodeAction;
+pub use completion::{CompletionItem, CompletionKind};
+pub use folding::{Fold, FoldKind};
+pub use highlights::HighlightKind;
+pub use hover::Hover;
+pub use inlay_hints::{InlayHint, InlayKind};
+pub use symbols::DocumentSymbol;
+pub use semantic_tokens::{
+    SemanticToken, TOKEN_KINDS, TOKEN_MODIFIERS, TokenKind, TokenModifier,
+};
 
 /// A position in a workspace file.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -63,7 +86,8 @@ impl SourceChange {
             }
         };
         let edits = &mut self.files[index].1;
-        let at = edits.partition_point(|e| e.range.start() < edit.range.start());
+        // After any edit at the same offset: insertions keep their order.
+        let at = edits.partition_point(|e| e.range.start() <= edit.range.start());
         if !edits.contains(&edit) {
             edits.insert(at, edit);
         }

@@ -3,7 +3,7 @@
 //!
 //! | module      | codes |
 //! |-------------|-------|
-//! | `decls`     | HG1201, HG1203–HG1206, HG1210, HG1213, HG1215 for chart variables |
+//! | `decls`     | chart variables: the declaration rules of `rules::decls`, and HG1210 |
 //! | `props`     | HG7105, HG7206–HG7208, HG7401–HG7403, HG7406 |
 //! | `model`     | the element tree of one sequencer (no diagnostics) |
 //! | `names`     | HG7101–HG7104 |
@@ -41,11 +41,11 @@
 //!   to chart variables (as in graphs).
 //! * HG1203 names the variable's section as written (`in_out` too: a chart has no messages).
 
-mod decls;
+pub(crate) mod decls;
 mod exprs;
 mod model;
 mod names;
-mod operands;
+pub(crate) mod operands;
 mod parts;
 mod props;
 mod term;
@@ -57,8 +57,7 @@ use higraph_syntax::{
     ast::{self, AstNode},
 };
 
-use super::Ctx;
-use crate::lang::{Section, Type};
+use super::{Ctx, decls::Var, has_error};
 
 /// Checks one chart: its variables, properties and sequencers.
 pub(crate) fn check(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
@@ -143,20 +142,6 @@ impl ChartInfo {
     }
 }
 
-/// A variable of the chart.
-pub(crate) struct Var {
-    /// As declared.
-    pub name: String,
-    pub name_range: TextRange,
-    pub section: Section,
-    /// `None` if the type is missing or invalid (unknown, §2.4).
-    pub ty: Option<Type>,
-    /// The whole declaration (for the HG1210 fix).
-    pub decl_range: TextRange,
-    /// A later duplicate (HG1201): ignored by references (C3).
-    pub duplicate: bool,
-}
-
 /// The chart's variables and which of them are used (HG1210).
 pub(crate) struct Scope {
     pub chart: ChartInfo,
@@ -165,7 +150,7 @@ pub(crate) struct Scope {
 }
 
 impl Scope {
-    fn new(chart: ChartInfo, vars: Vec<Var>) -> Scope {
+    pub(crate) fn new(chart: ChartInfo, vars: Vec<Var>) -> Scope {
         let used = vec![false; vars.len()];
         Scope { chart, vars, used }
     }
@@ -179,11 +164,6 @@ impl Scope {
 }
 
 // ------------------------------------------------------------------------------ syntax helpers
-
-/// Does the node contain an error node (C1)?
-pub(crate) fn has_error(node: &SyntaxNode) -> bool {
-    node.descendants().any(|n| n.kind() == SyntaxKind::ERROR)
-}
 
 /// The first significant token of a node (its keyword, for most chart constructs).
 pub(crate) fn first_token(node: &SyntaxNode) -> Option<SyntaxToken> {

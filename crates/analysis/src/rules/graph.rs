@@ -1,7 +1,7 @@
 //! State graphs: declarations and structure.
 //!
-//! * `decls` — HG1201–HG1206, HG1211–HG1213, HG1215 (graph and `block` interface
-//!   declarations, `activate`);
+//! * `decls` — HG1202, HG1211, HG1212 (predefined names declared, `activate`); the rules of
+//!   every variable declaration are in [`crate::rules::decls`];
 //! * `structure` — HG2001, HG2002, HG2101–HG2106 (limits, state numbers, endpoints);
 //! * `startup` — HG2201–HG2203, HG2401, HG2402 (startup transition, reachability);
 //! * `priority` — HG2301–HG2306 (priorities per range, §2.6);
@@ -12,53 +12,31 @@
 //! Time values themselves (HG3004–HG3006, HG3008) are checked with the STL operands.
 
 mod decls;
-mod edit;
 mod model;
 mod modes;
 mod priority;
 mod startup;
 mod structure;
 
-use higraph_syntax::{ast, ast::AstNode};
+use higraph_syntax::ast;
 
+use super::edit;
 // Re-exported for the formatter; `rules/mod.rs` has to make `graph` visible to it.
 #[allow(unused_imports)]
 pub use self::model::effective_priorities;
-use self::{decls::Owner, model::GraphModel};
+use self::model::GraphModel;
 use super::Ctx;
 
 /// Runs every graph rule of this module on one graph.
 pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
     let name = graph.name().map(|n| n.text()).unwrap_or_default();
-    let sections: Vec<ast::VarSection> = graph.var_sections().collect();
-    decls::check_sections(
-        ctx,
-        &sections,
-        Owner::Graph(graph),
-        &format!("graph {name}"),
-    );
+    decls::check_variables(ctx, graph, &format!("graph {name}"));
     decls::check_activate(ctx, graph);
     let model = GraphModel::new(graph);
     structure::check(ctx, graph, &model);
     startup::check(ctx, graph, &model);
     priority::check(ctx, &model);
     modes::check(ctx, graph, &model);
-}
-
-/// Declaration rules inside `block` interfaces (HG1201, HG1203–HG1206, HG1213, HG1215, with
-/// POINTER, ANY and the block types allowed).
-pub(crate) fn check_block_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInterface) {
-    let reference = interface
-        .block()
-        .map(|b| b.syntax().text().to_string())
-        .unwrap_or_default();
-    let sections: Vec<ast::VarSection> = interface.var_sections().collect();
-    decls::check_sections(
-        ctx,
-        &sections,
-        Owner::BlockInterface,
-        &format!("block {reference}"),
-    );
 }
 
 #[cfg(test)]

@@ -13,10 +13,10 @@
 //! [`interface::graph_interface`], which holds no positions: editing a graph's states leaves it
 //! equal, so the groups are not checked again.
 
-mod actuals;
+pub(crate) mod actuals;
 mod blocks;
 mod instances;
-mod interface;
+pub(crate) mod interface;
 mod messages;
 mod modes;
 mod options;

@@ -4,7 +4,8 @@
 //! | module       | codes |
 //! |--------------|-------|
 //! | `names`      | HG1101–HG1103: name rules of every declared name |
-//! | `graph`      | HG1201–HG1206, HG1211–HG1213, HG1215 (graph declarations), HG2xxx, HG3001–HG3003, HG3007, HG3101, HG3102 |
+//! | `decls`      | HG1201, HG1203–HG1206, HG1213, HG1215: variable declarations of graphs, charts and `block` interfaces |
+//! | `graph`      | HG1202, HG1211, HG1212 (graph declarations), HG2xxx, HG3001–HG3003, HG3007, HG3101, HG3102 |
 //! | `stl`        | operand resolution in graphs; HG1104, HG1207–HG1210, HG1214, HG3004–HG3006, HG3008, HG4xxx |
 //! | `group`      | HG3103, HG3104, HG5xxx, HG8xxx |
 //! | `symbols`    | HG6xxx, HG4309, HG4310, HG1301 (workspace-wide) |
@@ -12,7 +13,7 @@
 
 use std::collections::BTreeSet;
 
-use higraph_syntax::{TextRange, ast};
+use higraph_syntax::{SyntaxKind, SyntaxNode, TextRange, ast};
 
 use crate::{
     db::{self, File, ItemLoc, Workspace},
@@ -21,11 +22,13 @@ use crate::{
     lang::Mnemonic,
 };
 
-mod chart;
+pub(crate) mod chart;
+pub(crate) mod decls;
+mod edit;
 mod graph;
-mod group;
+pub(crate) mod group;
 mod names;
-mod stl;
+pub(crate) mod stl;
 mod symbols;
 
 /// What the rules found in one item.
@@ -106,12 +109,18 @@ pub(crate) fn check_item(
         }
         Some(ast::Item::BlockInterface(interface)) => {
             names::check_block_interface(&mut ctx, &interface);
-            graph::check_block_interface(&mut ctx, &interface);
+            decls::check_block_interface(&mut ctx, &interface);
             symbols::check_block_interface(&mut ctx, &interface);
         }
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
     ctx.out
+}
+
+/// Does the node contain an error node? A construct with a syntax error gets no diagnostics of
+/// the rules that would read its broken parts (C1).
+pub(crate) fn has_error(node: &SyntaxNode) -> bool {
+    node.descendants().any(|n| n.kind() == SyntaxKind::ERROR)
 }
 
 pub(crate) fn check_workspace(db: &dyn salsa::Database, ws: Workspace) -> Vec<Diag> {

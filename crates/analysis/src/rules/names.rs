@@ -42,16 +42,7 @@ enum Namespace {
 pub(crate) fn check_graph(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
     let root = graph.syntax().clone();
     check_name(ctx, &root, graph.name(), &Namespace::Global);
-    let sections: Vec<ast::VarSection> = graph.var_sections().collect();
-    let names = variable_names(&sections);
-    for decl in sections.iter().flat_map(|s| s.decls()) {
-        check_name(
-            ctx,
-            &root,
-            decl.name(),
-            &Namespace::GraphVariable(names.clone()),
-        );
-    }
+    check_variables(ctx, &root, graph.var_sections(), Namespace::GraphVariable);
 }
 
 /// Checks the group's name and its instances.
@@ -77,16 +68,7 @@ pub(crate) fn check_group(ctx: &mut Ctx<'_>, group: &ast::Group) {
 pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
     let root = chart.syntax().clone();
     check_name(ctx, &root, chart.name(), &Namespace::Global);
-    let sections: Vec<ast::VarSection> = chart.var_sections().collect();
-    let names = variable_names(&sections);
-    for decl in sections.iter().flat_map(|s| s.decls()) {
-        check_name(
-            ctx,
-            &root,
-            decl.name(),
-            &Namespace::ChartVariable(names.clone()),
-        );
-    }
+    check_variables(ctx, &root, chart.var_sections(), Namespace::ChartVariable);
     let sequencers: Vec<ast::Sequencer> = chart.sequencers().collect();
     let sequencer_names: Vec<String> = sequencers
         .iter()
@@ -120,32 +102,29 @@ fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
         .collect();
     let transitions: Vec<String> = elements
         .iter()
-        .filter_map(|e| match e {
-            ast::SeqElement::Trans(t) => t.name().map(|n| n.text()),
-            ast::SeqElement::Jump(j) => j.name().map(|n| n.text()),
-            ast::SeqElement::Loop(l) => l.name().map(|n| n.text()),
-            _ => None,
-        })
+        .filter_map(|e| transition_name(e).flatten())
+        .map(|n| n.text())
         .collect();
     for element in &elements {
-        match element {
-            ast::SeqElement::Step(s) => {
-                check_name(ctx, &root, s.name(), &Namespace::Step(steps.clone()));
-            }
-            ast::SeqElement::Trans(t) => {
-                let ns = Namespace::ChartTransition(transitions.clone());
-                check_name(ctx, &root, t.name(), &ns);
-            }
-            ast::SeqElement::Jump(j) => {
-                let ns = Namespace::ChartTransition(transitions.clone());
-                check_name(ctx, &root, j.name(), &ns);
-            }
-            ast::SeqElement::Loop(l) => {
-                let ns = Namespace::ChartTransition(transitions.clone());
-                check_name(ctx, &root, l.name(), &ns);
-            }
-            ast::SeqElement::Parallel(_) | ast::SeqElement::Alt(_) => {}
-        }
+        let (name, ns) = match element {
+            ast::SeqElement::Step(s) => (s.name(), Namespace::Step(steps.clone())),
+            _ => match transition_name(element) {
+                Some(name) => (name, Namespace::ChartTransition(transitions.clone())),
+                None => continue,
+            },
+        };
+        check_name(ctx, &root, name, &ns);
+    }
+}
+
+/// The name of a chart transition, jump or loop (`None` inside if it has none); `None` for
+/// other elements.
+fn transition_name(element: &ast::SeqElement) -> Option<Option<ast::Name>> {
+    match element {
+        ast::SeqElement::Trans(t) => Some(t.name()),
+        ast::SeqElement::Jump(j) => Some(j.name()),
+        ast::SeqElement::Loop(l) => Some(l.name()),
+        ast::SeqElement::Step(_) | ast::SeqElement::Parallel(_) | ast::SeqElement::Alt(_) => None,
     }
 }
 
@@ -160,26 +139,31 @@ pub(crate) fn check_symbols(ctx: &mut Ctx<'_>, table: &ast::Symbols) {
 /// Checks the variables of a `block` interface.
 pub(crate) fn check_block_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInterface) {
     let root = interface.syntax().clone();
-    let sections: Vec<ast::VarSection> = interface.var_sections().collect();
-    let names = variable_names(&sections);
-    for decl in sections.iter().flat_map(|s| s.decls()) {
-        check_name(
-            ctx,
-            &root,
-            decl.name(),
-            &Namespace::BlockVariable(names.clone()),
-        );
-    }
+    check_variables(
+        ctx,
+        &root,
+        interface.var_sections(),
+        Namespace::BlockVariable,
+    );
 }
 
-/// The names of all variables of some sections, in declaration order.
-fn variable_names(sections: &[ast::VarSection]) -> Vec<String> {
-    sections
+/// Checks the variables of some sections; `namespace` makes their namespace from the names of
+/// all of them, in declaration order.
+fn check_variables(
+    ctx: &mut Ctx<'_>,
+    root: &SyntaxNode,
+    sections: impl Iterator<Item = ast::VarSection>,
+    namespace: fn(Vec<String>) -> Namespace,
+) {
+    let decls: Vec<ast::VarDecl> = sections.flat_map(|s| s.decls()).collect();
+    let names: Vec<String> = decls
         .iter()
-        .flat_map(|s| s.decls())
         .filter_map(|d| d.name())
         .map(|n| n.text())
-        .collect()
+        .collect();
+    for decl in &decls {
+        check_name(ctx, root, decl.name(), &namespace(names.clone()));
+    }
 }
 
 /// HG1101–HG1103 for one declared name.
@@ -195,28 +179,14 @@ fn check_name(ctx: &mut Ctx<'_>, root: &SyntaxNode, name: Option<ast::Name>, ns:
     let range = token.text_range();
     if text.ends_with('_') {
         let message = format!("name '{text}' must not end with '_'");
-        let new_name = text.trim_end_matches('_');
-        let diag = with_rename(
-            ctx,
-            ctx.diag("HG1101", range, message),
-            root,
-            &token,
-            new_name,
-            ns,
-        );
+        let diag = ctx.diag("HG1101", range, message);
+        let diag = with_rename(ctx, diag, root, &token, text.trim_end_matches('_'), ns);
         ctx.push(diag);
     }
     if text.contains("__") {
         let message = format!("name '{text}' must not contain '__'");
-        let new_name = collapse_underscores(text);
-        let diag = with_rename(
-            ctx,
-            ctx.diag("HG1102", range, message),
-            root,
-            &token,
-            &new_name,
-            ns,
-        );
+        let diag = ctx.diag("HG1102", range, message);
+        let diag = with_rename(ctx, diag, root, &token, &collapse_underscores(text), ns);
         ctx.push(diag);
     }
     if let Some(kind) = lang::reserved_kind(text, ctx.mnemonic) {
@@ -262,12 +232,7 @@ fn with_rename(
 /// Does `name` pass the name rules (an identifier without trailing `_`, without `__`, not
 /// reserved)?
 fn is_valid_name(name: &str, mnemonic: lang::Mnemonic) -> bool {
-    let mut chars = name.chars();
-    let starts_well = chars
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
-    starts_well
-        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+    lang::is_identifier(name)
         && !name.ends_with('_')
         && !name.contains("__")
         && lang::reserved_kind(name, mnemonic).is_none()

@@ -24,6 +24,14 @@ mod transitions;
 
 use statement::{Analyzed, Place};
 
+pub(crate) use access::Access;
+
+/// The access kind (Appendix E) of the operand of `op` (a SIMATIC operation name) whose type
+/// is `ty`. CALL actuals are not covered: their access depends on the callee's interface.
+pub(crate) fn operand_access(op: &str, ty: Option<crate::lang::Type>) -> Access {
+    statement::OperandRule::of(op).access(ty)
+}
+
 /// Checks the STL of one graph: every state, transition and `permanent` body, then HG1210.
 pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
     let mut scope = GraphScope::new(graph);
@@ -258,20 +266,18 @@ fn check_time_item(
 
 /// HG1210: declared variables and activated predefined variables that no operand uses.
 fn report_unused(ctx: &mut Ctx<'_>, scope: &GraphScope) {
+    let owner = scope.owner();
     for (var, used) in scope.vars.iter().zip(&scope.used_vars) {
-        if *used {
-            continue;
-        }
-        let message = format!("variable '{}' is never used in {}", var.name, scope.owner());
-        let mut diag = ctx.diag("HG1210", var.name_range, message);
-        if var.section == crate::lang::Section::Stat {
-            diag = diag.fix(
-                format!("Remove the declaration of '{}'", var.name),
-                ctx.loc(var.decl_range),
-                "",
+        if !*used {
+            super::decls::report_unused(
+                ctx,
+                &owner,
+                &var.name,
+                var.name_range,
+                var.section,
+                var.decl_range,
             );
         }
-        ctx.push(diag);
     }
     let mut seen = std::collections::HashSet::new();
     for name in &scope.activated {

@@ -243,20 +243,7 @@ pub(crate) fn check_case(
     used: &str,
     declared: &str,
 ) {
-    if used == declared || !used.eq_ignore_ascii_case(declared) {
-        return;
+    if used.eq_ignore_ascii_case(declared) {
+        crate::resolve::case_hint(ctx, reference_range(token), used, declared);
     }
-    let range = reference_range(token);
-    let diag = ctx
-        .diag(
-            "HG1104",
-            range,
-            format!("'{used}' is declared as '{declared}'"),
-        )
-        .fix(
-            format!("Replace with '{declared}'"),
-            ctx.loc(range),
-            declared,
-        );
-    ctx.push(diag);
 }

@@ -9,18 +9,12 @@
 use std::io::{self, IsTerminal, Write as _};
 use std::process::ExitCode;
 
-use std::collections::HashMap;
-use std::path::Path;
-
-use globset::{Glob, GlobSet, GlobSetBuilder};
-use higraph_analysis::{AnalysisHost, FileContents, FileId, WorkspaceData};
+use higraph_analysis::{AnalysisHost, FileId};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::output::{self, Report, Reported, SourceFile, Sources};
-use super::workspace::{self, Workspace};
-use super::{
-    CheckArgs, CliError, ColorChoice, Deny, EXIT_FAILURE, Format, io_reason, write_stdout,
-};
+use super::{CheckArgs, CliError, ColorChoice, Deny, EXIT_FAILURE, Format, write_stdout};
+use crate::workspace;
 
 pub(crate) fn run(args: &CheckArgs) -> Result<ExitCode, CliError> {
     let (workspace, warnings) = workspace::discover(&args.paths)?;
@@ -30,7 +24,7 @@ pub(crate) fn run(args: &CheckArgs) -> Result<ExitCode, CliError> {
 
     let progress = Progress::start(workspace.files.len());
     let mut host = AnalysisHost::new();
-    let loaded = load(&workspace, args.config.as_deref())?;
+    let loaded = workspace::load(&workspace, args.config.as_deref())?;
     let selected = loaded.selected.clone();
     host.load(loaded.data);
     let analysis = host.analysis();
@@ -82,108 +76,6 @@ pub(crate) fn run(args: &CheckArgs) -> Result<ExitCode, CliError> {
     } else {
         ExitCode::SUCCESS
     })
-}
-
-/// What `load` read: the workspace data for the analysis, and which output paths are under
-/// the PATHs (their diagnostics are reported).
-struct Loaded {
-    data: WorkspaceData,
-    selected: HashMap<String, bool>,
-}
-
-/// Reads the configuration, every file of the workspace and the imported symbol tables. A
-/// file that cannot be read is not an error of the run: it becomes a diagnostic (HG6103) on
-/// that file. An unreadable `--config` file is (exit status 2).
-fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loaded, CliError> {
-    let mut selected = HashMap::new();
-    let config_path = match config {
-        Some(path) => Some(path.to_path_buf()),
-        None => Some(workspace.root.join(workspace::CONFIG_FILE)).filter(|p| p.is_file()),
-    };
-    let config = match &config_path {
-        Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|error| {
-                CliError::new(format!(
-                    "cannot read configuration file '{}': {}",
-                    path.display(),
-                    io_reason(&error)
-                ))
-            })?;
-            let name = workspace::display_name(&workspace.root, path);
-            let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
-            selected.insert(
-                name.clone(),
-                workspace.selects(&absolute) || config.is_some(),
-            );
-            Some((name, text))
-        }
-        None => None,
-    };
-    let parsed = config
-        .as_ref()
-        .map(|(_, text)| AnalysisHost::parse_config(text))
-        .unwrap_or_default();
-    let filter = FileFilter::new(&parsed.include, &parsed.exclude);
-    let mut files = Vec::new();
-    for file in &workspace.files {
-        if !filter.accepts(&file.name) && !file.explicit {
-            continue;
-        }
-        let contents = match std::fs::read(&file.path) {
-            Ok(bytes) => FileContents::from_bytes(bytes),
-            Err(error) => FileContents::unreadable(io_reason(&error)),
-        };
-        selected.insert(file.name.clone(), file.selected);
-        files.push((file.name.clone(), contents));
-    }
-    let mut imports = HashMap::new();
-    for (entry, _) in &parsed.symbols {
-        let path = workspace.root.join(entry);
-        let read = std::fs::read(&path).map_err(|error| io_reason(&error));
-        let absolute = std::fs::canonicalize(&path).unwrap_or(path);
-        selected.insert(entry.clone(), workspace.selects(&absolute));
-        imports.insert(entry.clone(), read);
-    }
-    Ok(Loaded {
-        data: WorkspaceData {
-            files,
-            config,
-            imports,
-        },
-        selected,
-    })
-}
-
-/// The `include` / `exclude` globs of `higraph.toml`, matched against workspace-relative
-/// paths.
-struct FileFilter {
-    include: GlobSet,
-    exclude: GlobSet,
-}
-
-impl FileFilter {
-    fn new(include: &[String], exclude: &[String]) -> FileFilter {
-        FileFilter {
-            include: glob_set(include),
-            exclude: glob_set(exclude),
-        }
-    }
-
-    fn accepts(&self, name: &str) -> bool {
-        self.include.is_match(name) && !self.exclude.is_match(name)
-    }
-}
-
-fn glob_set(patterns: &[String]) -> GlobSet {
-    let mut builder = GlobSetBuilder::new();
-    for pattern in patterns {
-        // Invalid patterns are ignored here; `higraph.toml` problems are reported by the
-        // analysis.
-        if let Ok(glob) = Glob::new(pattern) {
-            builder.add(glob);
-        }
-    }
-    builder.build().unwrap_or_else(|_| GlobSet::empty())
 }
 
 /// A progress bar on stderr for runs that take longer than about half a second (only on a

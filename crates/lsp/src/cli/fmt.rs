@@ -24,12 +24,11 @@ use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use globset::{Glob, GlobSet, GlobSetBuilder};
 use higraph_analysis::format::{FormatError, format};
-use higraph_analysis::{AnalysisHost, FileContents, LineIndex};
+use higraph_analysis::{FileContents, LineIndex};
 
-use super::workspace::{self, Workspace};
 use super::{CliError, EXIT_FAILURE, FmtArgs, io_reason, write_stdout};
+use crate::workspace::{self, FileFilter};
 
 pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
     let (workspace, warnings) = workspace::discover(&args.paths)?;
@@ -37,7 +36,7 @@ pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
     for warning in warnings {
         let _ = writeln!(stderr, "warning: {warning}");
     }
-    let filter = Filter::for_workspace(&workspace);
+    let filter = FileFilter::for_workspace(&workspace.root);
 
     let mut changed = Vec::new();
     let mut unchanged = 0usize;
@@ -192,84 +191,4 @@ fn temporary_path(folder: &Path, name: &str) -> PathBuf {
         .map(|n| folder.join(format!(".{name}.{pid}.{n}.fmt-tmp")))
         .find(|candidate| !candidate.exists())
         .unwrap_or_else(|| folder.join(format!(".{name}.{pid}.fmt-tmp")))
-}
-
-/// The `include` / `exclude` globs of the workspace's `higraph.toml` (defaults when there is
-/// none or it cannot be read; `check` reports such problems).
-struct Filter {
-    include: GlobSet,
-    exclude: GlobSet,
-}
-
-impl Filter {
-    fn for_workspace(workspace: &Workspace) -> Filter {
-        let path = workspace.root.join(workspace::CONFIG_FILE);
-        let config = fs::read_to_string(path)
-            .map(|text| AnalysisHost::parse_config(&text))
-            .unwrap_or_default();
-        Filter {
-            include: glob_set(&config.include),
-            exclude: glob_set(&config.exclude),
-        }
-    }
-
-    fn accepts(&self, name: &str) -> bool {
-        self.include.is_match(name) && !self.exclude.is_match(name)
-    }
-}
-
-fn glob_set(patterns: &[String]) -> GlobSet {
-    let mut builder = GlobSetBuilder::new();
-    for pattern in patterns {
-        if let Ok(glob) = Glob::new(pattern) {
-            builder.add(glob);
-        }
-    }
-    builder.build().unwrap_or_else(|_| GlobSet::empty())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn summaries() {
-        assert_eq!(
-            summary(false, 1, 2, 0),
-            "1 file reformatted, 2 files already formatted"
-        );
-        assert_eq!(
-            summary(true, 2, 0, 1),
-            "2 files would be reformatted, 0 files already formatted, 1 file left unchanged \
-             because of errors"
-        );
-    }
-
-    #[test]
-    fn atomic_write_keeps_permissions_and_leaves_no_temporary_file() {
-        let dir = std::env::temp_dir().join(format!("higraph-fmt-test-{}", std::process::id()));
-        let _ = fs::create_dir_all(&dir);
-        let path = dir.join("a.higraph");
-        fs::write(&path, "old").expect("write");
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            fs::set_permissions(&path, fs::Permissions::from_mode(0o640)).expect("chmod");
-        }
-        write_atomically(&path, b"new").expect("atomic write");
-        assert_eq!(fs::read_to_string(&path).expect("read"), "new");
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            let mode = fs::metadata(&path).expect("metadata").permissions().mode();
-            assert_eq!(mode & 0o777, 0o640);
-        }
-        let leftovers: Vec<_> = fs::read_dir(&dir)
-            .expect("list")
-            .flatten()
-            .filter(|e| e.file_name().to_string_lossy().ends_with("fmt-tmp"))
-            .collect();
-        assert!(leftovers.is_empty());
-        let _ = fs::remove_dir_all(&dir);
-    }
 }

@@ -9,14 +9,15 @@ mod explain;
 mod fmt_command;
 mod output;
 mod parse;
-mod workspace;
 
 use std::fmt;
 use std::io::{self, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::workspace::WorkspaceError;
 
 /// Exit status 1: error-level diagnostics were found (`diagnostics.md` §4.3).
 pub(crate) const EXIT_FAILURE: u8 = 1;
@@ -29,10 +30,17 @@ pub(crate) const EXIT_USAGE: u8 = 2;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// Accepted and ignored: without a subcommand the language server runs on stdin/stdout
+    /// (editors' clients append `--stdio`).
+    #[arg(long, hide = true)]
+    stdio: bool,
 }
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Run the language server on stdin/stdout (also what `higraph-lsp` without a command
+    /// does).
+    Lsp(LspArgs),
     /// Check a workspace and report diagnostics.
     Check(CheckArgs),
     /// Print the syntax tree of a file (for debugging the parser).
@@ -41,6 +49,14 @@ enum Command {
     Fmt(FmtArgs),
     /// Print the documentation of a diagnostic code (what, why, example, fix).
     Explain(ExplainArgs),
+}
+
+/// Arguments of `higraph-lsp lsp`.
+#[derive(Debug, Args)]
+pub(crate) struct LspArgs {
+    /// Talk over stdin/stdout (the only transport; accepted for editors that pass it).
+    #[arg(long)]
+    pub stdio: bool,
 }
 
 /// Arguments of `higraph-lsp check`.
@@ -142,6 +158,12 @@ impl CliError {
     }
 }
 
+impl From<WorkspaceError> for CliError {
+    fn from(error: WorkspaceError) -> CliError {
+        CliError::new(error.to_string())
+    }
+}
+
 impl fmt::Display for CliError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.message)
@@ -158,11 +180,7 @@ pub fn run() -> ExitCode {
         Some(Command::Parse(args)) => parse::run(&args),
         Some(Command::Fmt(args)) => fmt_command::run(&args),
         Some(Command::Explain(args)) => explain::run(&args),
-        None => {
-            // The language server will run here; until then, show what there is.
-            let _ = Cli::command().print_help();
-            Ok(ExitCode::SUCCESS)
-        }
+        Some(Command::Lsp(_)) | None => Ok(crate::server::run()),
     };
     match result {
         Ok(status) => status,
@@ -186,11 +204,4 @@ pub(crate) fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
     }
 }
 
-/// An I/O error's text without the trailing " (os error N)".
-pub(crate) fn io_reason(error: &io::Error) -> String {
-    let text = error.to_string();
-    match text.rfind(" (os error ") {
-        Some(at) if text.ends_with(')') => text[..at].to_string(),
-        _ => text,
-    }
-}
+pub(crate) use crate::workspace::io_reason;

@@ -18,12 +18,11 @@ use super::{
     Scope, body_children, collapsed, has_error,
     operands::{self, Target, Unresolved},
     parts,
-    times::{self, TimeKind},
-    without_semi,
+    times, without_semi,
 };
 use crate::{
     lang::{Section, Type},
-    rules::Ctx,
+    rules::{Ctx, stl::time::TimeKind},
 };
 
 /// Where a step writes an operand (HG7311).
@@ -184,7 +183,7 @@ impl<'c, 'a> Walker<'c, 'a> {
         is_min: bool,
     ) -> Option<(i64, TextRange, String)> {
         let value = time.value()?;
-        let kind = if is_min { TimeKind::Min } else { TimeKind::Max };
+        let kind = if is_min { TimeKind::MinRunTime } else { TimeKind::MaxRunTime };
         let report = !has_error(time.syntax());
         let item = time.syntax().text_range();
         let millis = times::check(self.ctx, self.scope, &value, kind, Some(item), report)?;
@@ -267,7 +266,7 @@ impl<'c, 'a> Walker<'c, 'a> {
             || parts::check_qualifier_time(self.ctx, action, &qualifier, &written, time.as_ref());
         if let Some(time) = &time {
             let report = report && time_ok;
-            times::check(self.ctx, self.scope, time, TimeKind::Action, None, report);
+            times::check(self.ctx, self.scope, time, TimeKind::ActionTime, None, report);
         }
         let target = match &operand {
             ast::Operand::Path(path) => {

@@ -16,9 +16,10 @@ use higraph_syntax::{
 
 use super::Scope;
 use crate::{
-    address::{self, Address, AddressError, Area},
+    address::{self, Address},
     closest::closest,
-    lang::Type,
+    lang::{self, Type},
+    resolve,
     rules::Ctx,
 };
 
@@ -141,14 +142,14 @@ fn plain_name(
     if let Some(i) = scope.var(name) {
         scope.used[i] = true;
         if report {
-            case_hint(ctx, name, &scope.vars[i].name, token.text_range());
+            resolve::case_hint(ctx, token.text_range(), name, &scope.vars[i].name);
         }
         return Target::Var(i);
     }
     if let Some(target) = symbol(ctx, name) {
         if report {
             if let Target::Symbol { name: declared, .. } = &target {
-                case_hint(ctx, name, declared, token.text_range());
+                resolve::case_hint(ctx, token.text_range(), name, declared);
             }
             outside_interface(ctx, scope, path, "a global symbol");
         }
@@ -188,7 +189,7 @@ fn quoted_symbol(
                 // The reference is the name without its quotes (§2.3).
                 let start = token.text_range().start() + TextSize::from(1);
                 let inner = TextRange::at(start, TextSize::of(name.as_str()));
-                case_hint(ctx, &name, declared, inner);
+                resolve::case_hint(ctx, inner, &name, declared);
             }
             outside_interface(ctx, scope, path, "a global symbol");
         }
@@ -246,41 +247,9 @@ fn unresolved_name(ctx: &mut Ctx<'_>, scope: &Scope, name: &str, range: TextRang
         candidates.extend(index.symbols.iter().map(|s| s.name.as_str()));
     }
     if let Some(best) = closest(name, candidates) {
-        let text = if is_identifier(best) {
-            best.to_owned()
-        } else {
-            format!("\"{best}\"")
-        };
+        let text = lang::operand_spelling(best);
         diag = diag.fix(format!("Replace with '{text}'"), ctx.loc(range), text);
     }
-    ctx.push(diag);
-}
-
-/// Can the name be written without quotes?
-fn is_identifier(name: &str) -> bool {
-    let mut chars = name.chars();
-    chars
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
-}
-
-/// HG1104: a reference spelled in another letter case than its declaration.
-fn case_hint(ctx: &mut Ctx<'_>, used: &str, declared: &str, range: TextRange) {
-    if used == declared {
-        return;
-    }
-    let diag = ctx
-        .diag(
-            "HG1104",
-            range,
-            format!("'{used}' is declared as '{declared}'"),
-        )
-        .fix(
-            format!("Replace with '{declared}'"),
-            ctx.loc(range),
-            declared,
-        );
     ctx.push(diag);
 }
 
@@ -327,52 +296,16 @@ fn read_address(ctx: &mut Ctx<'_>, address: &ast::Address, report: bool) -> Opti
     let read = address::read(&compact, ctx.mnemonic)?;
     match read.address {
         Ok(a) => {
-            if report && a.area == Area::Local {
-                let diag = ctx.diag(
-                    "HG4012",
-                    range,
-                    format!("'{written}' is temporary local data of the generated FC; its value is not kept"),
-                );
-                ctx.push(diag);
+            if report {
+                resolve::local_data_warning(ctx, range, &written, &a);
             }
             Some(a)
         }
         Err(error) => {
             if report {
-                address_error(ctx, &written, range, error);
+                resolve::report_address_error(ctx, range, &written, &error);
             }
             None
         }
     }
-}
-
-/// HG4009, HG4010 and HG4011 for a malformed address.
-fn address_error(ctx: &mut Ctx<'_>, written: &str, range: TextRange, error: AddressError) {
-    let diag = match error {
-        AddressError::BitOutOfRange { bit, .. } => {
-            // The bit number ends the address.
-            let start = range.end() - TextSize::of(bit.as_str());
-            ctx.diag(
-                "HG4009",
-                TextRange::new(start.max(range.start()), range.end()),
-                format!("bit number {bit} is outside 0..7"),
-            )
-        }
-        AddressError::Malformed(reason) => ctx.diag(
-            "HG4010",
-            range,
-            format!("'{written}' is not a valid address: {reason}"),
-        ),
-        AddressError::NeedsDb => ctx.diag(
-            "HG4011",
-            range,
-            format!("'{written}' needs a data block number ('DBn.{written}'); no DB can be opened in HiGraph"),
-        ),
-        AddressError::InstanceDb => ctx.diag(
-            "HG4011",
-            range,
-            "instance-DB operands are not available in HiGraph",
-        ),
-    };
-    ctx.push(diag);
 }

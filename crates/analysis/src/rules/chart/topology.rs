@@ -14,7 +14,7 @@ use super::{
     body_children,
     model::{ElemId, Kind, ListId, Tree},
 };
-use crate::{closest::closest, rules::Ctx};
+use crate::{closest::closest, resolve, rules::Ctx};
 
 /// Checks the topology of one sequencer.
 pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, header: TextRange) {
@@ -348,24 +348,9 @@ fn report_unknown_target(ctx: &mut Ctx<'_>, tree: &Tree, id: ElemId, sequencer: 
 
 /// HG1104 on a jump or loop target that names its step in another letter case.
 fn report_target_case(ctx: &mut Ctx<'_>, tree: &Tree, step: ElemId, used: &str, range: TextRange) {
-    let Some(declared) = tree.elems[step].name.as_deref() else {
-        return;
-    };
-    if declared == used {
-        return;
+    if let Some(declared) = tree.elems[step].name.as_deref() {
+        resolve::case_hint(ctx, range, used, declared);
     }
-    let diag = ctx
-        .diag(
-            "HG1104",
-            range,
-            format!("'{used}' is declared as '{declared}'"),
-        )
-        .fix(
-            format!("Replace with '{declared}'"),
-            ctx.loc(range),
-            declared,
-        );
-    ctx.push(diag);
 }
 
 /// HG7007 (the loop crosses a branch boundary) and HG7008 (the loop leads forward).

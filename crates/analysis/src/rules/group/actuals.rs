@@ -16,7 +16,7 @@ use crate::{
     address::{self, Address},
     closest::closest,
     index::Symbol,
-    lang::{Mnemonic, Type},
+    lang::{self, Mnemonic, Type},
     resolve,
     rules::{
         Ctx,
@@ -28,7 +28,7 @@ use crate::{
 
 /// A resolved actual value.
 #[derive(Debug, Clone)]
-pub(super) enum Value<'a> {
+pub(crate) enum Value<'a> {
     Symbol(&'a Symbol),
     Address(Address),
     Constant(Literal),
@@ -97,7 +97,7 @@ fn same_type(a: Type, b: Type) -> bool {
 }
 
 /// Resolves an actual value, reporting what fails.
-pub(super) fn resolve<'a>(ctx: &mut Ctx<'a>, operand: &ast::Operand) -> Value<'a> {
+pub(crate) fn resolve<'a>(ctx: &mut Ctx<'a>, operand: &ast::Operand) -> Value<'a> {
     match operand {
         ast::Operand::Address(node) => resolve_address(ctx, node),
         ast::Operand::NameRef(name) => resolve_name(ctx, name),
@@ -283,21 +283,12 @@ fn report_unresolved(ctx: &mut Ctx<'_>, name: &str, range: TextRange, quoted: bo
     let index = ctx.index;
     let candidates = index.symbols.iter().map(|s| s.name.as_str());
     if let Some(best) = closest(name, candidates) {
-        let text = if quoted || !is_identifier(best) {
+        let text = if quoted {
             format!("\"{best}\"")
         } else {
-            best.to_owned()
+            lang::operand_spelling(best)
         };
         diag = diag.fix(format!("Replace with '{text}'"), ctx.loc(range), text);
     }
     ctx.push(diag);
-}
-
-/// Can `name` be written without quotes?
-fn is_identifier(name: &str) -> bool {
-    let mut chars = name.chars();
-    chars
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }

@@ -20,7 +20,7 @@ use crate::{
     index,
     lang::{Section, Type},
     rules::{
-        Ctx,
+        Ctx, has_error,
         symbols::{check_case, node_text},
     },
 };
@@ -120,7 +120,7 @@ pub(super) fn check(ctx: &mut Ctx<'_>, group: &ast::Group, group_name: &str) {
 fn record_uses(ctx: &mut Ctx<'_>, instance: &InstanceInfo<'_>) {
     let reported = ctx.out.diags.len();
     for actual in instance.node.actuals() {
-        if let Some(operand) = actual.value().filter(|_| !has_error(&actual)) {
+        if let Some(operand) = actual.value().filter(|_| !has_error(actual.syntax())) {
             actuals::resolve(ctx, &operand);
         }
     }
@@ -271,13 +271,6 @@ fn check_graph_name(ctx: &mut Ctx<'_>, instance: &InstanceInfo<'_>) {
     ctx.push(diag);
 }
 
-/// Does the construct hold a syntax error (C1)?
-fn has_error(node: &ast::Actual) -> bool {
-    node.syntax()
-        .descendants()
-        .any(|n| n.kind() == SyntaxKind::ERROR)
-}
-
 /// The formal of that name: a declared `in`/`out`/`in_out` variable or a predefined input.
 fn resolve_formal(graph: &GraphInterface, name: &str) -> Option<Formal> {
     if let Some(var) = graph.var(name) {
@@ -332,7 +325,7 @@ fn check_actuals<'a>(
             ),
             None => None,
         };
-        let operand = if has_error(&actual) {
+        let operand = if has_error(actual.syntax()) {
             None
         } else {
             actual.value()

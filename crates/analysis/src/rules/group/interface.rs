@@ -15,6 +15,7 @@ use crate::{
     db::{self, ItemLoc},
     index,
     lang::{self, Section, Type},
+    rules::decls,
 };
 
 /// The direction of a message variable.
@@ -177,34 +178,26 @@ pub(crate) fn graph_interface<'db>(
 }
 
 fn collect_vars(graph: &ast::Graph, interface: &mut GraphInterface) {
-    for section in graph.var_sections() {
-        let Some(kind) = section
-            .keyword()
-            .and_then(|k| Section::from_keyword(k.text()))
-        else {
+    for (kind, decl) in decls::declarations(graph.var_sections()) {
+        let Some(name) = decl.name().map(|n| n.text()).filter(|n| !n.is_empty()) else {
             continue;
         };
-        for decl in section.decls() {
-            let Some(name) = decl.name().map(|n| n.text()).filter(|n| !n.is_empty()) else {
-                continue;
-            };
-            if interface.var(&name).is_some() {
-                continue;
-            }
-            let msg = decl.msg_kind().map(|m| {
-                if m.is_incoming() {
-                    MsgDir::Incoming
-                } else {
-                    MsgDir::Outgoing
-                }
-            });
-            interface.vars.push(InterfaceVar {
-                name,
-                section: kind,
-                ty: decl.ty().and_then(|t| index::declared_type(&t)),
-                msg,
-            });
+        if interface.var(&name).is_some() {
+            continue;
         }
+        let msg = decl.msg_kind().map(|m| {
+            if m.is_incoming() {
+                MsgDir::Incoming
+            } else {
+                MsgDir::Outgoing
+            }
+        });
+        interface.vars.push(InterfaceVar {
+            name,
+            section: kind,
+            ty: decl.ty().and_then(|t| index::declared_type(&t)),
+            msg,
+        });
     }
 }
 

@@ -22,6 +22,7 @@ use crate::{
     index::{self, Symbol},
     lang::{Section, Type},
     resolve::{self, GraphScope, Resolved, Role, Target, Usage},
+    rules::{decls, symbols::block_kind_article},
 };
 
 /// A `CALL` or `CC` statement.
@@ -243,19 +244,6 @@ fn cannot_be_called(ctx: &mut Ctx<'_>, range: TextRange, name: &str, what: &str)
     ctx.push(diag);
 }
 
-/// `a DB`, `an OB`, `a UDT`, ...
-fn block_kind_article(kind: BlockKind) -> &'static str {
-    match kind {
-        BlockKind::Ob => "an OB",
-        BlockKind::Fc => "an FC",
-        BlockKind::Fb => "an FB",
-        BlockKind::Db => "a DB",
-        BlockKind::Sfc => "an SFC",
-        BlockKind::Sfb => "an SFB",
-        BlockKind::Udt => "a UDT",
-    }
-}
-
 // ------------------------------------------------------------------------------ instance DB
 
 /// HG4302: an FB/SFB needs an instance DB, an FC/SFC takes none, and the DB must be one.
@@ -429,29 +417,21 @@ fn interface_of(ctx: &Ctx<'_>, callee: &Callee) -> Option<Vec<Formal>> {
     let root = db::item_root(ctx.db, item)?;
     let interface = ast::BlockInterface::cast(root)?;
     let mut formals: Vec<Formal> = Vec::new();
-    for section in interface.var_sections() {
-        let Some(kind) = section
-            .keyword()
-            .and_then(|k| Section::from_keyword(k.text()))
-        else {
-            continue;
-        };
+    for (kind, decl) in decls::declarations(interface.var_sections()) {
         if kind == Section::Stat {
             continue;
         }
-        for decl in section.decls() {
-            let Some(name) = decl.name().map(|n| n.text()) else {
-                continue;
-            };
-            if formals.iter().any(|f| f.name.eq_ignore_ascii_case(&name)) {
-                continue;
-            }
-            formals.push(Formal {
-                name,
-                section: kind,
-                ty: decl.ty().and_then(|t| interface_type(&t)),
-            });
+        let Some(name) = decl.name().map(|n| n.text()) else {
+            continue;
+        };
+        if formals.iter().any(|f| f.name.eq_ignore_ascii_case(&name)) {
+            continue;
         }
+        formals.push(Formal {
+            name,
+            section: kind,
+            ty: decl.ty().and_then(|t| index::declared_type_in(&t, true)),
+        });
     }
     Some(formals)
 }
@@ -471,15 +451,6 @@ fn interface_target(ctx: &Ctx<'_>, reference: &str) -> (Option<Address>, Option<
     }
     let address = ctx.index.symbol(trimmed).and_then(|s| s.address.clone());
     (address, Some(trimmed.to_owned()))
-}
-
-/// A type in a block interface (`POINTER`, `ANY`, `BLOCK_FC`, ... allowed).
-fn interface_type(ty: &ast::TypeRef) -> Option<Type> {
-    let name = ty.name()?;
-    match (Type::from_name(name.text(), true)?, ty.length()) {
-        (Type::String(_), Some(len)) => len.text().parse::<u16>().ok().map(Type::String),
-        (parsed, _) => Some(parsed),
-    }
 }
 
 // ------------------------------------------------------------------------------ parameters

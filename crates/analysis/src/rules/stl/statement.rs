@@ -21,6 +21,7 @@ use crate::{
     closest,
     lang::{self, Mnemonic, OpClass, OutsideKind, Type},
     resolve::{self, GraphScope, Resolved, Role, Target, Usage},
+    rules::has_error,
 };
 
 /// Where a statement stands.
@@ -84,27 +85,8 @@ pub(super) fn check(
         display: display.clone(),
         opcode_range,
     };
-    let broken = stmt
-        .syntax()
-        .descendants()
-        .any(|n| n.kind() == SyntaxKind::ERROR);
-    if broken {
-        // C1: nothing is reported for a broken statement, but its names still count as uses.
-        let mark = ctx.out.diags.len();
-        analyse(
-            ctx,
-            scope,
-            stmt,
-            &op,
-            &display,
-            &written,
-            other_set_op.as_deref(),
-            place,
-        );
-        ctx.out.diags.truncate(mark);
-        return Some(analyzed);
-    }
-    if analyse(
+    let mark = ctx.out.diags.len();
+    let further = analyse(
         ctx,
         scope,
         stmt,
@@ -113,11 +95,13 @@ pub(super) fn check(
         &written,
         other_set_op.as_deref(),
         place,
-    ) {
-        Some(analyzed)
-    } else {
-        None
+    );
+    if has_error(stmt.syntax()) {
+        // C1: nothing is reported for a broken statement, but its names still count as uses.
+        ctx.out.diags.truncate(mark);
+        return Some(analyzed);
     }
+    further.then_some(analyzed)
 }
 
 /// The statement after its operation is known. Returns `false` if it is not analysed further
@@ -490,7 +474,7 @@ impl OperandRule {
     }
 
     /// The access kind of the operand (Appendix E).
-    fn access(self, ty: Option<Type>) -> Access {
+    pub(super) fn access(self, ty: Option<Type>) -> Access {
         use OperandRule::*;
         let timer_or_counter = matches!(ty, Some(Type::Timer | Type::Counter));
         match self {
@@ -623,24 +607,9 @@ fn load_operand(ctx: &mut Ctx<'_>, operand: &Resolved<'_>) {
             let peripheral_output = operand
                 .address()
                 .is_some_and(|a| a.area == Area::PeripheralOutput);
-            let loadable = operand.ty.is_none_or(|ty| {
-                matches!(
-                    ty,
-                    Type::Byte
-                        | Type::Word
-                        | Type::Dword
-                        | Type::Int
-                        | Type::Dint
-                        | Type::Real
-                        | Type::S5Time
-                        | Type::Time
-                        | Type::Date
-                        | Type::TimeOfDay
-                        | Type::Char
-                        | Type::Timer
-                        | Type::Counter
-                )
-            });
+            let loadable = operand
+                .ty
+                .is_none_or(|ty| transferable(ty) || matches!(ty, Type::Timer | Type::Counter));
             peripheral_output || !loadable
         }
         None => false,
@@ -681,6 +650,7 @@ fn transfer_operand(ctx: &mut Ctx<'_>, operand: &Resolved<'_>) {
     }
 }
 
+/// The types `T` can write (and `L` can load, with TIMER and COUNTER).
 fn transferable(ty: Type) -> bool {
     matches!(
         ty,

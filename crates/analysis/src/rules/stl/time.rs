@@ -11,7 +11,7 @@ use higraph_syntax::{
 use super::Ctx;
 use crate::lang::Type;
 
-/// What a time value sets, for HG3008's message.
+/// What a time value sets, for HG3008's message and fix.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum TimeKind {
     /// `wait` of a graph state.
@@ -19,10 +19,8 @@ pub(crate) enum TimeKind {
     /// `supervise` of a graph state.
     Supervision,
     /// `min` of a chart step.
-    #[allow(dead_code)] // for the chart rules
     MinRunTime,
     /// `max` of a chart step.
-    #[allow(dead_code)] // for the chart rules
     MaxRunTime,
     /// The time of a chart action qualifier (`L`, `D`, `SD`, `DS`, `SL`).
     ActionTime,
@@ -38,9 +36,29 @@ impl TimeKind {
             TimeKind::ActionTime => "action time",
         }
     }
+
+    /// The title of HG3008's fix: a graph's `wait`/`supervise` is "the item", a chart step's
+    /// `min`/`max` is named.
+    fn removal_title(self) -> String {
+        match self {
+            TimeKind::MinRunTime | TimeKind::MaxRunTime => format!("Remove the {}", self.phrase()),
+            TimeKind::Wait | TimeKind::Supervision | TimeKind::ActionTime => {
+                "Remove the item".to_owned()
+            }
+        }
+    }
+
+    /// Does the value stand in a chart?
+    fn in_chart(self) -> bool {
+        matches!(
+            self,
+            TimeKind::MinRunTime | TimeKind::MaxRunTime | TimeKind::ActionTime
+        )
+    }
 }
 
-/// Checks one time value: HG3004, HG3006 and HG3008.
+/// Checks one time value: HG3004, HG3006 and HG3008. Returns the value in milliseconds when it
+/// is a valid `T#` constant (a step's `min` and `max` are compared for HG7405).
 ///
 /// * `value` — the value as parsed (a constant or an operand);
 /// * `ty` — the operand's resolved type; `None` when unknown or unresolved (then only
@@ -54,19 +72,17 @@ pub(crate) fn check_time_value(
     ty: Option<Type>,
     kind: TimeKind,
     item: Option<TextRange>,
-) {
+) -> Option<i64> {
     let range = value.syntax().text_range();
     let text = value.syntax().text().to_string();
     let ast::Operand::Literal(lit) = value else {
         if let Some(ty) = ty.filter(|t| *t != Type::Time) {
             not_a_time(ctx, range, &text, &ty.to_string(), None);
         }
-        return;
+        return None;
     };
-    let Ok(constant) = literal::check_literal(&lit.text()) else {
-        // HG0006 / HG0007: the syntax checks report it; its type is unknown.
-        return;
-    };
+    // HG0006 / HG0007: the syntax checks report a malformed constant; its type is unknown.
+    let constant = literal::check_literal(&lit.text()).ok()?;
     let millis = match constant.value {
         LiteralValue::Duration { millis } => Some(millis),
         _ => None,
@@ -79,11 +95,17 @@ pub(crate) fn check_time_value(
         (LiteralClass::IecTime, Some(0)) => zero_time(ctx, range, &text, kind, item),
         (LiteralClass::IecTime, _) => {}
         (LiteralClass::S5Time, Some(ms)) => {
-            let rewrite = Some(iec_time_text(ms));
-            not_a_time(ctx, range, &text, "S5TIME", rewrite);
+            // Charts have always rewritten a zero S5 time as `T#0MS` (graphs as `T#0S`).
+            let rewrite = if ms == 0 && kind.in_chart() {
+                "T#0MS".to_owned()
+            } else {
+                iec_time_text(ms)
+            };
+            not_a_time(ctx, range, &text, "S5TIME", Some(rewrite));
         }
         _ => not_a_time(ctx, range, &text, literal::literal_type(&constant), None),
     }
+    millis.filter(|_| constant.class == LiteralClass::IecTime)
 }
 
 /// HG3004, with the `T#` rewrite of an `S5T#` constant.
@@ -110,7 +132,7 @@ fn zero_time(
     );
     let mut diag = ctx.diag("HG3008", range, message);
     if let Some(item) = item.filter(|_| kind != TimeKind::ActionTime) {
-        diag = diag.fix("Remove the item", ctx.loc(item), "");
+        diag = diag.fix(kind.removal_title(), ctx.loc(item), "");
     }
     ctx.push(diag);
 }

@@ -10,7 +10,7 @@ use crate::{
     db::{self, File, ItemKind, ItemLoc, Workspace},
     diag::Loc,
     lang::Section,
-    rules::Ctx,
+    rules::{Ctx, decls},
 };
 
 /// HG4309, HG1104 and HG4010 for the block reference of one `block` item.
@@ -118,16 +118,10 @@ pub(crate) fn interface_formal_section(
 ) -> Option<Section> {
     let root = db::item_root(db, ItemLoc::new(db, file, item))?;
     let interface = ast::BlockInterface::cast(root)?;
-    interface.var_sections().find_map(|section| {
-        let kind = section
-            .keyword()
-            .and_then(|k| Section::from_keyword(k.text()))?;
-        section
-            .decls()
-            .any(|d| {
-                d.name()
-                    .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
-            })
-            .then_some(kind)
-    })
+    decls::declarations(interface.var_sections())
+        .find(|(_, d)| {
+            d.name()
+                .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+        })
+        .map(|(kind, _)| kind)
 }

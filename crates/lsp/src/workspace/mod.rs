@@ -1,4 +1,5 @@
-//! Finding the workspace of a `check` run and the files in it (`tooling.md` §2).
+//! Finding a workspace and the files in it (`tooling.md` §2), shared by the command line
+//! (`check`, `fmt`) and the language server; [`load`] reads them for the analysis.
 //!
 //! * The root is the nearest folder upwards from the first PATH (a file PATH: its folder)
 //!   that holds `higraph.toml`, else that folder itself.
@@ -19,12 +20,44 @@ use std::fs;
 use std::io;
 use std::path::{Component, Path, PathBuf};
 
-use super::{CliError, io_reason};
+mod load;
+
+pub(crate) use load::{FileFilter, load};
 
 /// The name of the workspace configuration file.
 pub(crate) const CONFIG_FILE: &str = "higraph.toml";
 /// The extension of HiGraph source files.
-const EXTENSION: &str = "higraph";
+pub(crate) const EXTENSION: &str = "higraph";
+
+/// A problem that stops loading a workspace: a PATH that does not exist, an unreadable root
+/// or configuration file. The command line reports it with exit status 2.
+#[derive(Debug)]
+pub(crate) struct WorkspaceError {
+    message: String,
+}
+
+impl WorkspaceError {
+    pub(crate) fn new(message: impl Into<String>) -> WorkspaceError {
+        WorkspaceError {
+            message: message.into(),
+        }
+    }
+}
+
+impl std::fmt::Display for WorkspaceError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+/// An I/O error's text without the trailing " (os error N)".
+pub(crate) fn io_reason(error: &io::Error) -> String {
+    let text = error.to_string();
+    match text.rfind(" (os error ") {
+        Some(at) if text.ends_with(')') => text[..at].to_string(),
+        _ => text,
+    }
+}
 
 /// A workspace: its root and its files in workspace order.
 #[derive(Debug)]
@@ -66,7 +99,7 @@ struct Target {
 
 /// Finds the workspace for the PATH arguments (default: the current folder) and lists its
 /// files. Fails when a PATH does not exist or the root cannot be read.
-pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), CliError> {
+pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), WorkspaceError> {
     let default = [PathBuf::from(".")];
     let paths = if paths.is_empty() {
         &default[..]
@@ -94,7 +127,7 @@ pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), Cl
         warnings: Vec::new(),
     };
     fs::read_dir(&root).map_err(|error| {
-        CliError::new(format!(
+        WorkspaceError::new(format!(
             "cannot read the workspace folder '{}': {}",
             root.display(),
             io_reason(&error)
@@ -138,14 +171,14 @@ pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), Cl
 }
 
 /// Checks that a PATH exists and makes it absolute.
-fn resolve(path: &Path) -> Result<Target, CliError> {
+fn resolve(path: &Path) -> Result<Target, WorkspaceError> {
     let shown = path.display();
     let metadata = fs::metadata(path).map_err(|error| match error.kind() {
-        io::ErrorKind::NotFound => CliError::new(format!("path '{shown}' does not exist")),
-        _ => CliError::new(format!("cannot access '{shown}': {}", io_reason(&error))),
+        io::ErrorKind::NotFound => WorkspaceError::new(format!("path '{shown}' does not exist")),
+        _ => WorkspaceError::new(format!("cannot access '{shown}': {}", io_reason(&error))),
     })?;
     let canonical = fs::canonicalize(path).map_err(|error| {
-        CliError::new(format!("cannot access '{shown}': {}", io_reason(&error)))
+        WorkspaceError::new(format!("cannot access '{shown}': {}", io_reason(&error)))
     })?;
     Ok(Target {
         path: canonical,
@@ -154,12 +187,27 @@ fn resolve(path: &Path) -> Result<Target, CliError> {
 }
 
 /// The nearest folder upwards from `start` holding `higraph.toml`, else `start`.
-fn find_root(start: &Path) -> PathBuf {
+pub(crate) fn find_root(start: &Path) -> PathBuf {
     start
         .ancestors()
         .find(|folder| folder.join(CONFIG_FILE).is_file())
         .unwrap_or(start)
         .to_path_buf()
+}
+
+/// Whether the walk from `root` finds `path` (absolute) as a source file: a `*.higraph` file
+/// below the root that is not in a skipped folder. The language server uses it for files that
+/// appear after the start.
+pub(crate) fn walk_finds(root: &Path, path: &Path) -> bool {
+    let is_source = path.extension().is_some_and(|ext| ext == EXTENSION);
+    let name_skipped = path
+        .file_name()
+        .is_some_and(|name| is_skipped(&name.to_string_lossy(), path.parent() == Some(root)));
+    is_source
+        && !name_skipped
+        && path
+            .parent()
+            .is_some_and(|folder| folder == root || covered_by_root_walk(root, folder))
 }
 
 /// Whether the walk from the root already visited every file under `folder`.
@@ -254,6 +302,19 @@ mod tests {
         assert!(is_skipped("target", true));
         assert!(!is_skipped("target", false));
         assert!(!is_skipped("graphs", true));
+    }
+
+    #[test]
+    fn the_walk_finds_sources_outside_skipped_folders() {
+        let root = Path::new("/ws");
+        assert!(walk_finds(root, Path::new("/ws/a.higraph")));
+        assert!(walk_finds(root, Path::new("/ws/graphs/b.higraph")));
+        assert!(walk_finds(root, Path::new("/ws/graphs/target/b.higraph")));
+        assert!(!walk_finds(root, Path::new("/ws/target/b.higraph")));
+        assert!(!walk_finds(root, Path::new("/ws/.git/b.higraph")));
+        assert!(!walk_finds(root, Path::new("/ws/.b.higraph")));
+        assert!(!walk_finds(root, Path::new("/ws/graphs/b.txt")));
+        assert!(!walk_finds(root, Path::new("/other/b.higraph")));
     }
 
     #[test]

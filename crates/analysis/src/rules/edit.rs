@@ -1,5 +1,5 @@
-//! Text edits shared by the graph quick fixes: removing a construct with the white space in
-//! front of it, and inserting a new member on its own line.
+//! Text edits shared by the quick fixes of graphs and of declarations: removing a construct
+//! with the white space in front of it, and inserting a new member on its own line.
 
 use higraph_syntax::{SyntaxKind, SyntaxNode, TextRange};
 

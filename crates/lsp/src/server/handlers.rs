@@ -1,0 +1,440 @@
+//! One small function per LSP request (and the published diagnostics): convert the
+//! parameters in, ask the [`Analysis`](higraph_analysis::Analysis) snapshot, convert the
+//! answer out. They run on a blocking thread; salsa's cancellation surfaces as
+//! [`HandlerError::Cancelled`] and is answered `ContentModified`.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use higraph_analysis::ide::{FilePosition, SourceChange};
+use higraph_analysis::{FileId, LineIndex, TextRange};
+use tower_lsp_server::ls_types as lsp;
+
+use super::convert;
+use super::state::Snapshot;
+
+/// Why a handler gave no answer.
+#[derive(Debug)]
+pub(crate) enum HandlerError {
+    /// The workspace changed while the request ran (salsa cancelled the snapshot).
+    Cancelled,
+    /// The request cannot be carried out; the message says why (for example a refused
+    /// rename).
+    Failed(String),
+}
+
+impl From<salsa::Cancelled> for HandlerError {
+    fn from(_: salsa::Cancelled) -> HandlerError {
+        HandlerError::Cancelled
+    }
+}
+
+/// What a handler returns.
+pub(crate) type HandlerResult<T> = Result<T, HandlerError>;
+
+/// The diagnostics of every file of the workspace by workspace path, as LSP diagnostics
+/// sorted like `check --format json` sorts them (`diagnostics.md` §4.4).
+pub(crate) fn publishable_diagnostics(
+    snapshot: &Snapshot,
+) -> HandlerResult<Vec<(String, Vec<lsp::Diagnostic>)>> {
+    let analysis = &snapshot.analysis;
+    let diagnostics = analysis.diagnostics_cancellable()?;
+    let files = analysis.files();
+    let indexes: Vec<LineIndex> = files
+        .iter()
+        .map(|file| LineIndex::new(file.contents.text()))
+        .collect();
+    let uris: Vec<Option<lsp::Uri>> = files.iter().map(|file| snapshot.uri(&file.path)).collect();
+    let encoding = snapshot.encoding;
+    let location = |file: FileId, range: TextRange| {
+        let i = file.0 as usize;
+        let uri = uris.get(i)?.clone()?;
+        Some(lsp::Location::new(
+            uri,
+            convert::range(indexes.get(i)?, range, encoding),
+        ))
+    };
+    Ok(diagnostics
+        .into_iter()
+        .filter_map(|(file, diagnostics)| {
+            let i = file.0 as usize;
+            let index = indexes.get(i)?;
+            let mut converted: Vec<lsp::Diagnostic> = diagnostics
+                .iter()
+                .map(|diagnostic| convert::diagnostic(diagnostic, index, encoding, &location))
+                .collect();
+            converted.sort_by(|a, b| {
+                let key = |d: &lsp::Diagnostic| {
+                    let code = match &d.code {
+                        Some(lsp::NumberOrString::String(code)) => code.clone(),
+                        _ => String::new(),
+                    };
+                    (d.range.start, d.range.end, code, d.message.clone())
+                };
+                key(a).cmp(&key(b))
+            });
+            Some((files.get(i)?.path.clone(), converted))
+        })
+        .collect())
+}
+
+/// The workspace path, byte offset and line index of a request's document position; `None`
+/// when the document is not a file of the workspace.
+fn file_position(
+    snapshot: &Snapshot,
+    params: &lsp::TextDocumentPositionParams,
+) -> Option<(FilePosition, Arc<LineIndex>)> {
+    let path = snapshot.path(&params.text_document.uri)?;
+    let index = snapshot.line_index(&path)?;
+    let offset = convert::offset(&index, params.position, snapshot.encoding);
+    Some((FilePosition { path, offset }, index))
+}
+
+/// The workspace path and line index of a request's document.
+fn file(
+    snapshot: &Snapshot,
+    document: &lsp::TextDocumentIdentifier,
+) -> Option<(String, Arc<LineIndex>)> {
+    let path = snapshot.path(&document.uri)?;
+    let index = snapshot.line_index(&path)?;
+    Some((path, index))
+}
+
+/// The LSP location of a range in a workspace file.
+fn location(snapshot: &Snapshot, path: &str, range: TextRange) -> Option<lsp::Location> {
+    let index = snapshot.line_index(path)?;
+    Some(lsp::Location::new(
+        snapshot.uri(path)?,
+        convert::range(&index, range, snapshot.encoding),
+    ))
+}
+
+/// The LSP workspace edit of a source change.
+fn workspace_edit(snapshot: &Snapshot, change: &SourceChange) -> HandlerResult<lsp::WorkspaceEdit> {
+    let mut changes = HashMap::new();
+    for (path, edits) in &change.files {
+        let (Some(uri), Some(index)) = (snapshot.uri(path), snapshot.line_index(path)) else {
+            return Err(HandlerError::Failed(format!(
+                "cannot edit '{path}': it is not a file of the workspace"
+            )));
+        };
+        let edits = edits
+            .iter()
+            .map(|edit| convert::text_edit(&index, edit, snapshot.encoding))
+            .collect();
+        changes.insert(uri, edits);
+    }
+    Ok(lsp::WorkspaceEdit {
+        changes: Some(changes),
+        document_changes: None,
+        change_annotations: None,
+    })
+}
+
+/// `textDocument/completion`.
+pub(crate) fn completion(
+    snapshot: &Snapshot,
+    params: lsp::CompletionParams,
+) -> HandlerResult<Option<lsp::CompletionResponse>> {
+    let Some((position, index)) = file_position(snapshot, &params.text_document_position) else {
+        return Ok(None);
+    };
+    let items = snapshot.analysis.completions(&position)?;
+    let snippets = snapshot.support.snippets;
+    let items = items
+        .iter()
+        .filter_map(|item| convert::completion_item(item, &index, snapshot.encoding, snippets))
+        .collect();
+    Ok(Some(lsp::CompletionResponse::Array(items)))
+}
+
+/// `textDocument/definition`.
+pub(crate) fn goto_definition(
+    snapshot: &Snapshot,
+    params: lsp::GotoDefinitionParams,
+) -> HandlerResult<Option<lsp::GotoDefinitionResponse>> {
+    let Some((position, _)) = file_position(snapshot, &params.text_document_position_params) else {
+        return Ok(None);
+    };
+    let targets = snapshot.analysis.goto_definition(&position)?;
+    let locations: Vec<lsp::Location> = targets
+        .iter()
+        .filter_map(|target| location(snapshot, &target.path, target.focus_range))
+        .collect();
+    Ok((!locations.is_empty()).then_some(lsp::GotoDefinitionResponse::Array(locations)))
+}
+
+/// `textDocument/references`.
+pub(crate) fn references(
+    snapshot: &Snapshot,
+    params: lsp::ReferenceParams,
+) -> HandlerResult<Option<Vec<lsp::Location>>> {
+    let Some((position, _)) = file_position(snapshot, &params.text_document_position) else {
+        return Ok(None);
+    };
+    let ranges = snapshot
+        .analysis
+        .references(&position, params.context.include_declaration)?;
+    Ok(Some(
+        ranges
+            .iter()
+            .filter_map(|range| location(snapshot, &range.path, range.range))
+            .collect(),
+    ))
+}
+
+/// `textDocument/documentHighlight`.
+pub(crate) fn document_highlight(
+    snapshot: &Snapshot,
+    params: lsp::DocumentHighlightParams,
+) -> HandlerResult<Option<Vec<lsp::DocumentHighlight>>> {
+    let Some((position, index)) = file_position(snapshot, &params.text_document_position_params)
+    else {
+        return Ok(None);
+    };
+    let highlights = snapshot.analysis.highlights(&position)?;
+    Ok(Some(
+        highlights
+            .iter()
+            .map(|&(range, kind)| convert::highlight(range, kind, &index, snapshot.encoding))
+            .collect(),
+    ))
+}
+
+/// `textDocument/prepareRename`: the range and current name, or why the name cannot be
+/// renamed.
+pub(crate) fn prepare_rename(
+    snapshot: &Snapshot,
+    params: lsp::TextDocumentPositionParams,
+) -> HandlerResult<Option<lsp::PrepareRenameResponse>> {
+    let Some((position, index)) = file_position(snapshot, &params) else {
+        return Ok(None);
+    };
+    match snapshot.analysis.prepare_rename(&position)? {
+        Ok((range, name)) => Ok(Some(lsp::PrepareRenameResponse::RangeWithPlaceholder {
+            range: convert::range(&index, range.range, snapshot.encoding),
+            placeholder: name,
+        })),
+        Err(reason) => Err(HandlerError::Failed(reason)),
+    }
+}
+
+/// `textDocument/rename`: the edits in every file of the workspace, open or not.
+pub(crate) fn rename(
+    snapshot: &Snapshot,
+    params: lsp::RenameParams,
+) -> HandlerResult<Option<lsp::WorkspaceEdit>> {
+    let Some((position, _)) = file_position(snapshot, &params.text_document_position) else {
+        return Err(HandlerError::Failed(
+            "the document is not a file of the workspace".into(),
+        ));
+    };
+    match snapshot.analysis.rename(&position, &params.new_name)? {
+        Ok(change) => Ok(Some(workspace_edit(snapshot, &change)?)),
+        Err(reason) => Err(HandlerError::Failed(reason)),
+    }
+}
+
+/// `textDocument/documentSymbol`: the outline, as a hierarchy.
+pub(crate) fn document_symbol(
+    snapshot: &Snapshot,
+    params: lsp::DocumentSymbolParams,
+) -> HandlerResult<Option<lsp::DocumentSymbolResponse>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let symbols = snapshot.analysis.document_symbols(&path)?;
+    Ok(Some(lsp::DocumentSymbolResponse::Nested(
+        symbols
+            .iter()
+            .map(|symbol| convert::document_symbol(symbol, &index, snapshot.encoding))
+            .collect(),
+    )))
+}
+
+/// `workspace/symbol`.
+pub(crate) fn workspace_symbol(
+    snapshot: &Snapshot,
+    params: lsp::WorkspaceSymbolParams,
+) -> HandlerResult<Option<lsp::WorkspaceSymbolResponse>> {
+    let targets = snapshot.analysis.workspace_symbols(&params.query)?;
+    let symbols = targets
+        .iter()
+        .filter_map(|target| {
+            let uri = snapshot.uri(&target.path)?;
+            let index = snapshot.line_index(&target.path)?;
+            Some(convert::symbol_information(
+                target,
+                uri,
+                &index,
+                snapshot.encoding,
+            ))
+        })
+        .collect();
+    Ok(Some(lsp::WorkspaceSymbolResponse::Flat(symbols)))
+}
+
+/// `textDocument/foldingRange`.
+pub(crate) fn folding_range(
+    snapshot: &Snapshot,
+    params: lsp::FoldingRangeParams,
+) -> HandlerResult<Option<Vec<lsp::FoldingRange>>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let folds = snapshot.analysis.folding_ranges(&path)?;
+    let line_folding_only = snapshot.support.line_folding_only;
+    Ok(Some(
+        folds
+            .iter()
+            .filter_map(|fold| convert::folding_range(fold, &index, line_folding_only))
+            .collect(),
+    ))
+}
+
+/// `textDocument/selectionRange`: one chain per position.
+pub(crate) fn selection_range(
+    snapshot: &Snapshot,
+    params: lsp::SelectionRangeParams,
+) -> HandlerResult<Option<Vec<lsp::SelectionRange>>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let offsets: Vec<_> = params
+        .positions
+        .iter()
+        .map(|&position| convert::offset(&index, position, snapshot.encoding))
+        .collect();
+    let chains = snapshot.analysis.selection_ranges(&path, &offsets)?;
+    Ok(Some(
+        params
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(i, &at)| {
+                let chain = chains.get(i).map(Vec::as_slice).unwrap_or_default();
+                convert::selection_range(chain, &index, snapshot.encoding, at)
+            })
+            .collect(),
+    ))
+}
+
+/// `textDocument/semanticTokens/full`.
+pub(crate) fn semantic_tokens_full(
+    snapshot: &Snapshot,
+    params: lsp::SemanticTokensParams,
+) -> HandlerResult<Option<lsp::SemanticTokensResult>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let tokens = snapshot.analysis.semantic_tokens(&path, None)?;
+    Ok(Some(lsp::SemanticTokensResult::Tokens(
+        lsp::SemanticTokens {
+            result_id: None,
+            data: convert::semantic_tokens(&tokens, &index, snapshot.encoding),
+        },
+    )))
+}
+
+/// `textDocument/semanticTokens/range`.
+pub(crate) fn semantic_tokens_range(
+    snapshot: &Snapshot,
+    params: lsp::SemanticTokensRangeParams,
+) -> HandlerResult<Option<lsp::SemanticTokensRangeResult>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let range = convert::text_range(&index, params.range, snapshot.encoding);
+    let tokens = snapshot.analysis.semantic_tokens(&path, Some(range))?;
+    Ok(Some(lsp::SemanticTokensRangeResult::Tokens(
+        lsp::SemanticTokens {
+            result_id: None,
+            data: convert::semantic_tokens(&tokens, &index, snapshot.encoding),
+        },
+    )))
+}
+
+/// `textDocument/inlayHint`.
+pub(crate) fn inlay_hint(
+    snapshot: &Snapshot,
+    params: lsp::InlayHintParams,
+) -> HandlerResult<Option<Vec<lsp::InlayHint>>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let range = convert::text_range(&index, params.range, snapshot.encoding);
+    let hints = snapshot.analysis.inlay_hints(&path, Some(range))?;
+    Ok(Some(
+        hints
+            .iter()
+            .map(|hint| convert::inlay_hint(hint, &index, snapshot.encoding))
+            .collect(),
+    ))
+}
+
+/// `textDocument/codeAction`: the quick fixes of the diagnostics in the range, each with the
+/// client's matching diagnostic attached.
+pub(crate) fn code_action(
+    snapshot: &Snapshot,
+    params: lsp::CodeActionParams,
+) -> HandlerResult<Option<lsp::CodeActionResponse>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    if let Some(only) = &params.context.only {
+        if !only
+            .iter()
+            .any(|kind| kind.as_str().starts_with("quickfix"))
+        {
+            return Ok(Some(Vec::new()));
+        }
+    }
+    let range = convert::text_range(&index, params.range, snapshot.encoding);
+    let actions = snapshot.analysis.code_actions(&path, range)?;
+    let mut response = Vec::new();
+    for action in actions {
+        let diagnostic_range = action
+            .diagnostic_range
+            .map(|range| convert::range(&index, range, snapshot.encoding));
+        let diagnostics: Vec<lsp::Diagnostic> = params
+            .context
+            .diagnostics
+            .iter()
+            .filter(|d| {
+                Some(d.range) == diagnostic_range
+                    && matches!(&d.code, Some(lsp::NumberOrString::String(code)) if Some(code) == action.code.as_ref())
+            })
+            .cloned()
+            .collect();
+        response.push(lsp::CodeActionOrCommand::CodeAction(lsp::CodeAction {
+            title: action.title.clone(),
+            kind: Some(lsp::CodeActionKind::QUICKFIX),
+            diagnostics: (!diagnostics.is_empty()).then_some(diagnostics),
+            edit: Some(workspace_edit(snapshot, &action.edit)?),
+            command: None,
+            is_preferred: action.is_preferred.then_some(true),
+            disabled: None,
+            data: None,
+        }));
+    }
+    Ok(Some(response))
+}
+
+/// `textDocument/formatting`: the canonical layout, or why the file cannot be formatted.
+pub(crate) fn formatting(
+    snapshot: &Snapshot,
+    params: lsp::DocumentFormattingParams,
+) -> HandlerResult<Option<Vec<lsp::TextEdit>>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    match snapshot.analysis.format_edits(&path)? {
+        Ok(edits) => Ok(Some(
+            edits
+                .iter()
+                .map(|edit| convert::text_edit(&index, edit, snapshot.encoding))
+                .collect(),
+        )),
+        Err(reason) => Err(HandlerError::Failed(reason)),
+    }
+}

@@ -1,0 +1,552 @@
+//! The language server (`tooling.md` §4): LSP 3.17 over stdin/stdout on tower-lsp-server and
+//! tokio.
+//!
+//! * [`transport`] reads and writes the JSON-RPC frames and keeps the server alive whatever
+//!   arrives;
+//! * [`Backend`] implements tower-lsp-server's `LanguageServer`: notifications become
+//!   [`Task`]s for the [`state`] thread that owns the analysis; requests take a
+//!   [`Snapshot`](state::Snapshot) and run their [`handlers`] function on a blocking thread;
+//! * [`convert`] translates between analysis and LSP types, [`capabilities`] says what the
+//!   server offers, [`vfs`] maps URIs to workspace paths and holds the open documents.
+//!
+//! No analysis happens here: every answer comes from `higraph_analysis`.
+
+mod capabilities;
+mod convert;
+mod handlers;
+mod state;
+mod transport;
+mod vfs;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use tokio::sync::mpsc;
+use tower_lsp_server::jsonrpc::{self, ErrorCode};
+use tower_lsp_server::ls_types::{
+    self as lsp, DidChangeConfigurationParams, DidChangeTextDocumentParams,
+    DidChangeWatchedFilesParams, DidCloseTextDocumentParams, DidOpenTextDocumentParams,
+    DidSaveTextDocumentParams, InitializeParams, InitializeResult, InitializedParams, MessageType,
+};
+use tower_lsp_server::{Client, LanguageServer, LspService};
+
+use capabilities::ClientSupport;
+use handlers::{HandlerError, HandlerResult};
+use state::{IndexProgress, Snapshot, Task, ToClient, WorldHandle};
+
+/// Runs the language server on stdin/stdout until `exit` (or the end of the input). The exit
+/// status is 0 after `shutdown` then `exit`, else 1 (LSP 3.17, `exit`).
+pub fn run() -> ExitCode {
+    let runtime = match tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .thread_name("higraph-lsp")
+        .build()
+    {
+        Ok(runtime) => runtime,
+        Err(error) => {
+            eprintln!("error: cannot start the language server: {error}");
+            return ExitCode::from(1);
+        }
+    };
+    let clean = runtime.block_on(serve_stdio());
+    // Threads still analysing a snapshot are not waited for.
+    runtime.shutdown_background();
+    if clean {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+/// Serves stdin/stdout; `true` if the client sent `shutdown` and then `exit`.
+async fn serve_stdio() -> bool {
+    let (to_client, outbox) = mpsc::unbounded_channel();
+    let world = WorldHandle::spawn(to_client);
+    let shut_down = Arc::new(AtomicBool::new(false));
+    let (service, socket) = LspService::new(|client| Backend {
+        client,
+        world,
+        support: OnceLock::new(),
+        shut_down: shut_down.clone(),
+    });
+    let client = service.inner().client.clone();
+    tokio::spawn(talk_to_client(client.clone(), outbox));
+    let ending = transport::serve(
+        tokio::io::stdin(),
+        tokio::io::stdout(),
+        service,
+        socket,
+        client,
+    )
+    .await;
+    ending == transport::Ending::Exit && shut_down.load(Ordering::SeqCst)
+}
+
+/// Sends what the analysis thread has for the client, in order.
+async fn talk_to_client(client: Client, mut outbox: mpsc::UnboundedReceiver<ToClient>) {
+    while let Some(message) = outbox.recv().await {
+        match message {
+            ToClient::Publish {
+                uri,
+                diagnostics,
+                version,
+            } => client.publish_diagnostics(uri, diagnostics, version).await,
+            ToClient::Log { kind, message } => client.log_message(kind, message).await,
+        }
+    }
+}
+
+/// The tower-lsp-server backend: converts notifications to tasks and runs requests on
+/// snapshots.
+pub(crate) struct Backend {
+    client: Client,
+    world: WorldHandle,
+    /// What the client supports (set by `initialize`).
+    support: OnceLock<ClientSupport>,
+    /// Set by `shutdown`: a following `exit` ends with status 0.
+    shut_down: Arc<AtomicBool>,
+}
+
+impl Backend {
+    fn support(&self) -> ClientSupport {
+        self.support.get().copied().unwrap_or_default()
+    }
+
+    /// Answers a request: takes a snapshot that reflects every notification before the
+    /// request, runs `handler` on a blocking thread and maps its failures to JSON-RPC errors
+    /// (`ContentModified` when an edit cancelled it, `InternalError` plus a log message when
+    /// it panicked).
+    async fn answer<P, R>(
+        &self,
+        method: &'static str,
+        params: P,
+        handler: fn(&Snapshot, P) -> HandlerResult<R>,
+    ) -> jsonrpc::Result<R>
+    where
+        P: Send + 'static,
+        R: Send + 'static,
+    {
+        let Some(snapshot) = self.world.snapshot().await else {
+            return Err(rpc_error(
+                ErrorCode::InternalError,
+                "the analysis has stopped".into(),
+            ));
+        };
+        let outcome =
+            tokio::task::spawn_blocking(move || catch(|| handler(&snapshot, params))).await;
+        let failure = match outcome {
+            Ok(Ok(value)) => return Ok(value),
+            Ok(Err(failure)) => failure,
+            Err(join_error) => Failure::Panicked(join_error.to_string()),
+        };
+        let error = failure_error(method, &failure);
+        if let Failure::Panicked(_) = failure {
+            self.client
+                .log_message(MessageType::ERROR, error.message.clone())
+                .await;
+        }
+        Err(error)
+    }
+}
+
+/// The error response for a request that gave no result: `ContentModified` when an edit
+/// cancelled it, `RequestFailed` with the handler's reason, `InternalError` for a panic.
+fn failure_error(method: &str, failure: &Failure) -> jsonrpc::Error {
+    match failure {
+        Failure::Cancelled => rpc_error(
+            ErrorCode::ContentModified,
+            "the workspace changed while the request ran".into(),
+        ),
+        Failure::Failed(message) => rpc_error(REQUEST_FAILED, message.clone()),
+        Failure::Panicked(message) => rpc_error(
+            ErrorCode::InternalError,
+            format!("internal error in {method}: {message}"),
+        ),
+    }
+}
+
+/// LSP's `RequestFailed`: the request was valid but could not be carried out.
+const REQUEST_FAILED: ErrorCode = ErrorCode::ServerError(-32803);
+
+fn rpc_error(code: ErrorCode, message: String) -> jsonrpc::Error {
+    jsonrpc::Error {
+        code,
+        message: message.into(),
+        data: None,
+    }
+}
+
+/// The folder the client opened: the first workspace folder, else the root URI, else the
+/// (deprecated) root path.
+#[allow(deprecated)]
+fn client_root(params: &InitializeParams) -> Option<PathBuf> {
+    let folder = params
+        .workspace_folders
+        .as_ref()
+        .and_then(|folders| folders.first())
+        .map(|folder| &folder.uri)
+        .or(params.root_uri.as_ref())
+        .and_then(vfs::PathMap::file_path);
+    folder.or_else(|| params.root_path.as_ref().map(PathBuf::from))
+}
+
+impl LanguageServer for Backend {
+    async fn initialize(&self, params: InitializeParams) -> jsonrpc::Result<InitializeResult> {
+        let support = ClientSupport::new(&params.capabilities);
+        let _ = self.support.set(support);
+        self.world.send(Task::Initialize {
+            root: client_root(&params),
+            support,
+        });
+        Ok(InitializeResult {
+            capabilities: capabilities::server_capabilities(&support),
+            server_info: Some(lsp::ServerInfo {
+                name: "higraph-lsp".into(),
+                version: Some(env!("CARGO_PKG_VERSION").into()),
+            }),
+            offset_encoding: None,
+        })
+    }
+
+    async fn initialized(&self, _: InitializedParams) {
+        // Queued first, so every later notification applies to the loaded workspace.
+        let (progress_tx, mut progress) = mpsc::unbounded_channel();
+        self.world.send(Task::Index {
+            progress: progress_tx,
+        });
+        let support = self.support();
+        if support.watched_files_registration {
+            let client = self.client.clone();
+            tokio::spawn(async move {
+                let registration = lsp::Registration {
+                    id: "higraph-watched-files".into(),
+                    method: "workspace/didChangeWatchedFiles".into(),
+                    register_options: serde_json::to_value(capabilities::file_watchers()).ok(),
+                };
+                if let Err(error) = client.register_capability(vec![registration]).await {
+                    client
+                        .log_message(
+                            MessageType::WARNING,
+                            format!("cannot watch the workspace's files: {}", error.message),
+                        )
+                        .await;
+                }
+            });
+        }
+        let token = lsp::NumberOrString::String("higraph/indexing".into());
+        let mut report = if support.work_done_progress
+            && self
+                .client
+                .create_work_done_progress(token.clone())
+                .await
+                .is_ok()
+        {
+            Some(
+                self.client
+                    .progress(token, "Indexing HiGraph workspace")
+                    .with_percentage(0)
+                    .begin()
+                    .await,
+            )
+        } else {
+            None
+        };
+        while let Some(event) = progress.recv().await {
+            match event {
+                IndexProgress::Report {
+                    message,
+                    percentage,
+                } => {
+                    if let Some(ongoing) = &report {
+                        ongoing.report_with_message(message, percentage).await;
+                    }
+                }
+                IndexProgress::Done { message } => {
+                    if let Some(ongoing) = report.take() {
+                        ongoing.finish_with_message(message).await;
+                    }
+                    break;
+                }
+            }
+        }
+        if let Some(ongoing) = report {
+            ongoing.finish().await;
+        }
+    }
+
+    async fn shutdown(&self) -> jsonrpc::Result<()> {
+        self.shut_down.store(true, Ordering::SeqCst);
+        Ok(())
+    }
+
+    async fn did_open(&self, params: DidOpenTextDocumentParams) {
+        let document = params.text_document;
+        self.world.send(Task::Open {
+            uri: document.uri,
+            version: document.version,
+            language_id: document.language_id,
+            text: document.text,
+        });
+    }
+
+    async fn did_change(&self, params: DidChangeTextDocumentParams) {
+        self.world.send(Task::Change {
+            uri: params.text_document.uri,
+            version: params.text_document.version,
+            changes: params.content_changes,
+        });
+    }
+
+    async fn did_close(&self, params: DidCloseTextDocumentParams) {
+        self.world.send(Task::Close {
+            uri: params.text_document.uri,
+        });
+    }
+
+    async fn did_save(&self, params: DidSaveTextDocumentParams) {
+        self.world.send(Task::Save {
+            uri: params.text_document.uri,
+        });
+    }
+
+    async fn did_change_watched_files(&self, params: DidChangeWatchedFilesParams) {
+        self.world.send(Task::WatchedFiles {
+            changes: params.changes,
+        });
+    }
+
+    async fn did_change_configuration(&self, _: DidChangeConfigurationParams) {
+        // The server has no client-side settings; `higraph.toml` may have changed meanwhile.
+        self.world.send(Task::Reload);
+    }
+
+    async fn completion(
+        &self,
+        params: lsp::CompletionParams,
+    ) -> jsonrpc::Result<Option<lsp::CompletionResponse>> {
+        self.answer("completion", params, handlers::completion)
+            .await
+    }
+
+    async fn goto_definition(
+        &self,
+        params: lsp::GotoDefinitionParams,
+    ) -> jsonrpc::Result<Option<lsp::GotoDefinitionResponse>> {
+        self.answer("definition", params, handlers::goto_definition)
+            .await
+    }
+
+    async fn references(
+        &self,
+        params: lsp::ReferenceParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::Location>>> {
+        self.answer("references", params, handlers::references)
+            .await
+    }
+
+    async fn document_highlight(
+        &self,
+        params: lsp::DocumentHighlightParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::DocumentHighlight>>> {
+        self.answer("documentHighlight", params, handlers::document_highlight)
+            .await
+    }
+
+    async fn prepare_rename(
+        &self,
+        params: lsp::TextDocumentPositionParams,
+    ) -> jsonrpc::Result<Option<lsp::PrepareRenameResponse>> {
+        self.answer("prepareRename", params, handlers::prepare_rename)
+            .await
+    }
+
+    async fn rename(
+        &self,
+        params: lsp::RenameParams,
+    ) -> jsonrpc::Result<Option<lsp::WorkspaceEdit>> {
+        self.answer("rename", params, handlers::rename).await
+    }
+
+    async fn document_symbol(
+        &self,
+        params: lsp::DocumentSymbolParams,
+    ) -> jsonrpc::Result<Option<lsp::DocumentSymbolResponse>> {
+        self.answer("documentSymbol", params, handlers::document_symbol)
+            .await
+    }
+
+    async fn symbol(
+        &self,
+        params: lsp::WorkspaceSymbolParams,
+    ) -> jsonrpc::Result<Option<lsp::WorkspaceSymbolResponse>> {
+        self.answer("workspace/symbol", params, handlers::workspace_symbol)
+            .await
+    }
+
+    async fn folding_range(
+        &self,
+        params: lsp::FoldingRangeParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::FoldingRange>>> {
+        self.answer("foldingRange", params, handlers::folding_range)
+            .await
+    }
+
+    async fn selection_range(
+        &self,
+        params: lsp::SelectionRangeParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::SelectionRange>>> {
+        self.answer("selectionRange", params, handlers::selection_range)
+            .await
+    }
+
+    async fn semantic_tokens_full(
+        &self,
+        params: lsp::SemanticTokensParams,
+    ) -> jsonrpc::Result<Option<lsp::SemanticTokensResult>> {
+        self.answer(
+            "semanticTokens/full",
+            params,
+            handlers::semantic_tokens_full,
+        )
+        .await
+    }
+
+    async fn semantic_tokens_range(
+        &self,
+        params: lsp::SemanticTokensRangeParams,
+    ) -> jsonrpc::Result<Option<lsp::SemanticTokensRangeResult>> {
+        self.answer(
+            "semanticTokens/range",
+            params,
+            handlers::semantic_tokens_range,
+        )
+        .await
+    }
+
+    async fn inlay_hint(
+        &self,
+        params: lsp::InlayHintParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::InlayHint>>> {
+        self.answer("inlayHint", params, handlers::inlay_hint).await
+    }
+
+    async fn code_action(
+        &self,
+        params: lsp::CodeActionParams,
+    ) -> jsonrpc::Result<Option<lsp::CodeActionResponse>> {
+        self.answer("codeAction", params, handlers::code_action)
+            .await
+    }
+
+    async fn formatting(
+        &self,
+        params: lsp::DocumentFormattingParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::TextEdit>>> {
+        self.answer("formatting", params, handlers::formatting)
+            .await
+    }
+}
+
+/// Why a request or computation on a snapshot gave no result.
+#[derive(Debug)]
+pub(crate) enum Failure {
+    /// An edit cancelled the snapshot.
+    Cancelled,
+    /// The handler refused, with a message for the user.
+    Failed(String),
+    /// The handler panicked (a bug), with the panic message.
+    Panicked(String),
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Cancelled => f.write_str("cancelled by an edit"),
+            Failure::Failed(message) | Failure::Panicked(message) => f.write_str(message),
+        }
+    }
+}
+
+/// Runs a handler, turning salsa's cancellation (returned or unwound) into
+/// [`Failure::Cancelled`] and any other panic into [`Failure::Panicked`].
+pub(crate) fn catch<T>(handler: impl FnOnce() -> HandlerResult<T>) -> Result<T, Failure> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(handler)) {
+        Ok(Ok(value)) => Ok(value),
+        Ok(Err(HandlerError::Cancelled)) => Err(Failure::Cancelled),
+        Ok(Err(HandlerError::Failed(message))) => Err(Failure::Failed(message)),
+        Err(payload) if payload.is::<salsa::Cancelled>() => Err(Failure::Cancelled),
+        Err(payload) => Err(Failure::Panicked(panic_message(payload.as_ref()))),
+    }
+}
+
+/// The message of a panic payload.
+pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(message) = payload.downcast_ref::<&str>() {
+        (*message).to_owned()
+    } else if let Some(message) = payload.downcast_ref::<String>() {
+        message.clone()
+    } else {
+        "a panic without a message".to_owned()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
+
+    use super::*;
+
+    fn host() -> AnalysisHost {
+        let mut host = AnalysisHost::new();
+        host.load(WorkspaceData {
+            files: vec![(
+                "a.higraph".into(),
+                FileContents::Text("graph A <\n  state 0 < >\n>\n".into()),
+            )],
+            ..WorkspaceData::default()
+        });
+        host
+    }
+
+    #[test]
+    fn an_edit_cancels_a_running_request_which_answers_content_modified() {
+        let mut host = host();
+        let analysis = host.analysis();
+        let (started, running) = std::sync::mpsc::channel();
+        let request = std::thread::spawn(move || {
+            catch::<()>(|| {
+                let _ = started.send(());
+                // A request that runs until the workspace changes.
+                loop {
+                    analysis.diagnostics_cancellable()?;
+                }
+            })
+        });
+        running.recv().expect("the request runs");
+        // The write cancels the snapshot and waits until the request has dropped it.
+        host.set_file_contents("a.higraph", FileContents::Text("graph B <\n>\n".into()));
+        let failure = request
+            .join()
+            .expect("the request thread ends")
+            .expect_err("cancelled");
+        assert!(matches!(failure, Failure::Cancelled), "{failure:?}");
+        assert_eq!(
+            failure_error("hover", &failure).code,
+            ErrorCode::ContentModified
+        );
+    }
+
+    #[test]
+    fn a_panicking_handler_becomes_an_internal_error_and_a_refusal_a_request_failure() {
+        let failure = catch::<()>(|| panic!("boom")).expect_err("a panic");
+        let error = failure_error("hover", &failure);
+        assert_eq!(error.code, ErrorCode::InternalError);
+        assert_eq!(error.message, "internal error in hover: boom");
+        let refused = catch::<()>(|| Err(HandlerError::Failed("no".into()))).expect_err("refused");
+        let error = failure_error("rename", &refused);
+        assert_eq!((error.code.code(), error.message.as_ref()), (-32803, "no"));
+    }
+}

@@ -1,0 +1,609 @@
+//! The server's state and its one owner.
+//!
+//! [`World`] owns the writable [`AnalysisHost`], the open documents and the last published
+//! diagnostics. It runs on a thread of its own and takes [`Task`]s from a channel in the order
+//! the client sent the notifications, so edits are applied in order and a request's snapshot
+//! sees every notification sent before it. Nothing else writes to the database.
+//!
+//! Requests run on [`Snapshot`]s (`host.analysis()`), off this thread. A write to the database
+//! cancels every running snapshot query (salsa), and waits until their snapshots are dropped,
+//! so snapshots live only as long as one request: never store one.
+//!
+//! After each batch of changes the world analyses the new revision on a thread of its own and
+//! publishes the diagnostics of every file whose diagnostics changed.
+
+use std::cell::RefCell;
+use std::collections::{HashMap, HashSet};
+use std::panic::AssertUnwindSafe;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::mpsc;
+
+use higraph_analysis::{
+    Analysis, AnalysisHost, FileContents, LineIndex, PositionEncoding, WorkspaceData,
+};
+use tokio::sync::{mpsc as async_mpsc, oneshot};
+use tower_lsp_server::ls_types::{
+    self as lsp, FileChangeType, FileEvent, MessageType, TextDocumentContentChangeEvent, Uri,
+};
+
+use super::capabilities::ClientSupport;
+use super::handlers;
+use super::vfs::{Document, Documents, PathMap};
+use crate::workspace::{self, CONFIG_FILE, EXTENSION, FileFilter};
+
+/// Something for the world to do, in the order the client asked for it.
+pub(crate) enum Task {
+    /// The client's root folder (`None`: no folder open) and what the client supports.
+    Initialize {
+        root: Option<PathBuf>,
+        support: ClientSupport,
+    },
+    /// Read the workspace from disk and analyse it, reporting progress.
+    Index {
+        progress: async_mpsc::UnboundedSender<IndexProgress>,
+    },
+    /// `textDocument/didOpen`.
+    Open {
+        uri: Uri,
+        version: i32,
+        language_id: String,
+        text: String,
+    },
+    /// `textDocument/didChange`.
+    Change {
+        uri: Uri,
+        version: i32,
+        changes: Vec<TextDocumentContentChangeEvent>,
+    },
+    /// `textDocument/didClose`.
+    Close { uri: Uri },
+    /// `textDocument/didSave`.
+    Save { uri: Uri },
+    /// `workspace/didChangeWatchedFiles`.
+    WatchedFiles { changes: Vec<FileEvent> },
+    /// Read the whole workspace again (`workspace/didChangeConfiguration`).
+    Reload,
+    /// A snapshot for a request, reflecting every task before this one.
+    Snapshot { reply: oneshot::Sender<Snapshot> },
+    /// The diagnostics of a revision, computed off the world's thread.
+    DiagnosticsReady {
+        revision: u64,
+        files: Vec<(String, Vec<lsp::Diagnostic>)>,
+    },
+}
+
+/// How indexing at start goes, for `$/progress`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum IndexProgress {
+    /// A step, with the percentage done.
+    Report { message: String, percentage: u32 },
+    /// Indexing is over: the first diagnostics are published.
+    Done { message: String },
+}
+
+/// What the world sends to the client (through the async side, which owns the connection).
+#[derive(Debug)]
+pub(crate) enum ToClient {
+    /// `textDocument/publishDiagnostics`.
+    Publish {
+        uri: Uri,
+        diagnostics: Vec<lsp::Diagnostic>,
+        version: Option<i32>,
+    },
+    /// `window/logMessage`.
+    Log { kind: MessageType, message: String },
+}
+
+/// A cheap handle that sends tasks to the world.
+#[derive(Clone)]
+pub(crate) struct WorldHandle {
+    tasks: mpsc::Sender<Task>,
+}
+
+impl WorldHandle {
+    /// Starts the world on a thread of its own. It talks to the client through `to_client`.
+    pub(crate) fn spawn(to_client: async_mpsc::UnboundedSender<ToClient>) -> WorldHandle {
+        let (tasks, inbox) = mpsc::channel();
+        let world = World::new(to_client, tasks.clone());
+        let started = std::thread::Builder::new()
+            .name("higraph-world".into())
+            .spawn(move || world.run(inbox));
+        if let Err(error) = started {
+            // Without the thread every snapshot request fails with an internal error; the
+            // server still answers.
+            eprintln!("higraph-lsp: cannot start the analysis thread: {error}");
+        }
+        WorldHandle { tasks }
+    }
+
+    /// Queues a task. After the world has stopped, tasks are dropped.
+    pub(crate) fn send(&self, task: Task) {
+        let _ = self.tasks.send(task);
+    }
+
+    /// A snapshot that reflects every task sent before; `None` if the world has stopped.
+    pub(crate) async fn snapshot(&self) -> Option<Snapshot> {
+        let (reply, answer) = oneshot::channel();
+        self.send(Task::Snapshot { reply });
+        answer.await.ok()
+    }
+}
+
+/// A read-only view of one revision for one request: the analysis snapshot plus what is
+/// needed to convert between URIs/positions and workspace paths/offsets.
+pub(crate) struct Snapshot {
+    /// The analysis of this revision (cancelled when the world writes).
+    pub analysis: Analysis,
+    /// The position encoding negotiated with the client.
+    pub encoding: PositionEncoding,
+    /// What the client supports.
+    pub support: ClientSupport,
+    paths: Arc<PathMap>,
+    /// The URIs of the open documents by workspace path, so answers name them as the client
+    /// does.
+    open_uris: Arc<HashMap<String, Uri>>,
+    /// Line indexes built so far for this request.
+    line_indexes: RefCell<HashMap<String, Arc<LineIndex>>>,
+}
+
+impl Snapshot {
+    /// The workspace path of a URI (`None` for URIs that name no file).
+    pub(crate) fn path(&self, uri: &Uri) -> Option<String> {
+        self.paths.name(uri)
+    }
+
+    /// The URI of a workspace path.
+    pub(crate) fn uri(&self, path: &str) -> Option<Uri> {
+        match self.open_uris.get(path) {
+            Some(uri) => Some(uri.clone()),
+            None => self.paths.uri(path),
+        }
+    }
+
+    /// The line index of a file of the workspace (a `.higraph` file, `higraph.toml` or an
+    /// imported symbol table), `None` if there is no such file.
+    pub(crate) fn line_index(&self, path: &str) -> Option<Arc<LineIndex>> {
+        if let Some(index) = self.line_indexes.borrow().get(path) {
+            return Some(index.clone());
+        }
+        let contents = match self.analysis.file_contents(path) {
+            Some(contents) => contents,
+            None => {
+                let files = self.analysis.files();
+                files.into_iter().find(|file| file.path == path)?.contents
+            }
+        };
+        let index = Arc::new(LineIndex::new(contents.text()));
+        self.line_indexes
+            .borrow_mut()
+            .insert(path.to_owned(), index.clone());
+        Some(index)
+    }
+}
+
+/// The owner of the analysis host and the open documents (see the module documentation).
+struct World {
+    host: AnalysisHost,
+    paths: Arc<PathMap>,
+    support: ClientSupport,
+    documents: Documents,
+    open_uris: Arc<HashMap<String, Uri>>,
+    /// The `.higraph` files on disk that belong to the workspace (found by the walk and
+    /// accepted by `include`/`exclude`). A closed document falls back to its disk file if it
+    /// has one, else it leaves the analysis.
+    disk_files: HashSet<String>,
+    /// The workspace's `include`/`exclude` patterns.
+    filter: FileFilter,
+    /// Counts the changes to the database.
+    revision: u64,
+    /// The revision whose diagnostics were last started.
+    analysed: u64,
+    /// The diagnostics last published, by workspace path, with the URI they went to.
+    published: HashMap<String, (Uri, Vec<lsp::Diagnostic>)>,
+    /// Where to report indexing progress until the first diagnostics are published.
+    index_progress: Option<async_mpsc::UnboundedSender<IndexProgress>>,
+    to_client: async_mpsc::UnboundedSender<ToClient>,
+    /// The world's own inbox, for the diagnostics threads to answer.
+    tasks: mpsc::Sender<Task>,
+}
+
+impl World {
+    fn new(to_client: async_mpsc::UnboundedSender<ToClient>, tasks: mpsc::Sender<Task>) -> World {
+        World {
+            host: AnalysisHost::new(),
+            paths: Arc::new(PathMap::default()),
+            support: ClientSupport::default(),
+            documents: Documents::default(),
+            open_uris: Arc::new(HashMap::new()),
+            disk_files: HashSet::new(),
+            filter: FileFilter::new(&["**/*.higraph".to_owned()], &[]),
+            revision: 0,
+            analysed: 0,
+            published: HashMap::new(),
+            index_progress: None,
+            to_client,
+            tasks,
+        }
+    }
+
+    /// Takes tasks until every handle is gone. Everything already queued is applied before the
+    /// new revision is analysed, so a burst of edits is analysed once.
+    fn run(mut self, inbox: mpsc::Receiver<Task>) {
+        while let Ok(task) = inbox.recv() {
+            self.handle_guarded(task);
+            while let Ok(task) = inbox.try_recv() {
+                self.handle_guarded(task);
+            }
+            if self.analysed != self.revision {
+                self.start_diagnostics();
+            }
+        }
+    }
+
+    /// Handles a task; a panic (a bug) is logged and the world carries on.
+    fn handle_guarded(&mut self, task: Task) {
+        let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| self.handle(task)));
+        if let Err(payload) = outcome {
+            let message = super::panic_message(payload.as_ref());
+            self.log(MessageType::ERROR, format!("internal error: {message}"));
+        }
+    }
+
+    fn handle(&mut self, task: Task) {
+        match task {
+            Task::Initialize { root, support } => {
+                self.support = support;
+                self.paths = Arc::new(match root {
+                    Some(root) => path_map(&root),
+                    None => PathMap::default(),
+                });
+            }
+            Task::Index { progress } => {
+                let _ = progress.send(IndexProgress::Report {
+                    message: "reading files".into(),
+                    percentage: 0,
+                });
+                self.reload();
+                let _ = progress.send(IndexProgress::Report {
+                    message: format!("analysing {}", count_files(self.host.paths().len())),
+                    percentage: 50,
+                });
+                self.index_progress = Some(progress);
+            }
+            Task::Open {
+                uri,
+                version,
+                language_id,
+                text,
+            } => self.open(uri, version, &language_id, text),
+            Task::Change {
+                uri,
+                version,
+                changes,
+            } => self.change(&uri, version, changes),
+            Task::Close { uri } => self.close(&uri),
+            Task::Save { uri } => {
+                if self.paths.name(&uri).is_some_and(|name| is_settings(&name)) {
+                    self.reload();
+                }
+            }
+            Task::WatchedFiles { changes } => self.watched_files(changes),
+            Task::Reload => self.reload(),
+            Task::Snapshot { reply } => {
+                // A request that was cancelled meanwhile drops the snapshot with the channel.
+                let _ = reply.send(self.snapshot());
+            }
+            Task::DiagnosticsReady { revision, files } => {
+                // A newer revision is being analysed: these are stale.
+                if revision == self.revision {
+                    self.publish(files);
+                }
+            }
+        }
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            analysis: self.host.analysis(),
+            encoding: self.support.encoding,
+            support: self.support,
+            paths: self.paths.clone(),
+            open_uris: self.open_uris.clone(),
+            line_indexes: RefCell::new(HashMap::new()),
+        }
+    }
+
+    fn log(&self, kind: MessageType, message: String) {
+        let _ = self.to_client.send(ToClient::Log { kind, message });
+    }
+
+    /// Reads the workspace from disk again (at start, and when the configuration or a symbol
+    /// table changes). Open documents keep the client's text.
+    fn reload(&mut self) {
+        let mut data = WorkspaceData::default();
+        if let Some(root) = self.paths.root() {
+            match workspace::discover(&[root.to_path_buf()]) {
+                Ok((found, warnings)) => {
+                    for warning in warnings {
+                        self.log(MessageType::WARNING, warning);
+                    }
+                    match workspace::load(&found, None) {
+                        Ok(loaded) => data = loaded.data,
+                        Err(error) => self.log(MessageType::ERROR, error.to_string()),
+                    }
+                }
+                Err(error) => self.log(MessageType::ERROR, error.to_string()),
+            }
+        }
+        let config = data
+            .config
+            .as_ref()
+            .map(|(_, text)| AnalysisHost::parse_config(text));
+        self.filter = match &config {
+            Some(config) => FileFilter::new(&config.include, &config.exclude),
+            None => FileFilter::new(&["**/*.higraph".to_owned()], &[]),
+        };
+        self.disk_files = data.files.iter().map(|(name, _)| name.clone()).collect();
+        for (name, document) in self.documents.iter() {
+            if !document.analysed {
+                continue;
+            }
+            let contents = FileContents::Text(document.text.clone());
+            match data.files.iter_mut().find(|(path, _)| path == name) {
+                Some(file) => file.1 = contents,
+                None => data.files.push((name.clone(), contents)),
+            }
+        }
+        self.host.load(data);
+        self.revision += 1;
+    }
+
+    fn open(&mut self, uri: Uri, version: i32, language_id: &str, text: String) {
+        let Some(name) = self.paths.name(&uri) else {
+            self.log(
+                MessageType::INFO,
+                format!("not analysing {}: only file: documents are", uri.as_str()),
+            );
+            return;
+        };
+        let analysed = name.ends_with(&format!(".{EXTENSION}")) || language_id == "higraph";
+        if analysed {
+            self.host
+                .upsert_file(&name, FileContents::Text(text.clone()));
+            self.revision += 1;
+        }
+        Arc::make_mut(&mut self.open_uris).insert(name.clone(), uri.clone());
+        self.documents.open(
+            name,
+            Document {
+                uri,
+                version,
+                text,
+                analysed,
+            },
+        );
+    }
+
+    fn change(&mut self, uri: &Uri, version: i32, changes: Vec<TextDocumentContentChangeEvent>) {
+        let Some(name) = self.paths.name(uri) else {
+            return;
+        };
+        match self
+            .documents
+            .change(&name, version, changes, self.support.encoding)
+        {
+            Ok(text) => {
+                let text = text.to_owned();
+                if self.documents.get(&name).is_some_and(|d| d.analysed) {
+                    self.host.upsert_file(&name, FileContents::Text(text));
+                    self.revision += 1;
+                }
+            }
+            Err(rejected) => self.log(
+                MessageType::WARNING,
+                format!("ignoring a change to {}: {rejected}", uri.as_str()),
+            ),
+        }
+    }
+
+    fn close(&mut self, uri: &Uri) {
+        let Some(name) = self.paths.name(uri) else {
+            return;
+        };
+        let Some(document) = self.documents.close(&name) else {
+            self.log(
+                MessageType::WARNING,
+                format!("ignoring the close of {}: it is not open", uri.as_str()),
+            );
+            return;
+        };
+        Arc::make_mut(&mut self.open_uris).remove(&name);
+        if !document.analysed {
+            return;
+        }
+        // The disk is the truth again.
+        if self.disk_files.contains(&name) {
+            let contents = self.read(&name);
+            self.host.upsert_file(&name, contents);
+        } else {
+            self.host.remove_file(&name);
+        }
+        self.revision += 1;
+    }
+
+    /// The contents of a workspace file on disk.
+    fn read(&self, name: &str) -> FileContents {
+        let Some(path) = self.paths.absolute(name) else {
+            return FileContents::unreadable("the file is not in the workspace");
+        };
+        match std::fs::read(&path) {
+            Ok(bytes) => FileContents::from_bytes(bytes),
+            Err(error) => FileContents::unreadable(workspace::io_reason(&error)),
+        }
+    }
+
+    fn watched_files(&mut self, changes: Vec<FileEvent>) {
+        let mut reload = false;
+        for change in changes {
+            let Some(path) = PathMap::file_path(&change.uri) else {
+                continue;
+            };
+            let name = self.paths.name_of_path(&path);
+            if is_settings(&name) {
+                reload = true;
+                continue;
+            }
+            let belongs = self
+                .paths
+                .root()
+                .is_some_and(|root| workspace::walk_finds(root, &path))
+                && self.filter.accepts(&name);
+            if !belongs {
+                continue;
+            }
+            let deleted = change.typ == FileChangeType::DELETED;
+            if deleted {
+                self.disk_files.remove(&name);
+            } else {
+                self.disk_files.insert(name.clone());
+            }
+            if self.documents.get(&name).is_some_and(|d| d.analysed) {
+                // The client owns an open document's text.
+                continue;
+            }
+            if deleted {
+                if self.host.remove_file(&name) {
+                    self.revision += 1;
+                }
+            } else {
+                let contents = self.read(&name);
+                self.host.upsert_file(&name, contents);
+                self.revision += 1;
+            }
+        }
+        if reload {
+            self.reload();
+        }
+    }
+
+    /// Analyses the current revision on a thread of its own; the result comes back as
+    /// [`Task::DiagnosticsReady`]. An edit meanwhile cancels it, and the next batch starts a
+    /// new one.
+    fn start_diagnostics(&mut self) {
+        self.analysed = self.revision;
+        let revision = self.revision;
+        let snapshot = self.snapshot();
+        let tasks = self.tasks.clone();
+        let to_client = self.to_client.clone();
+        let started = std::thread::Builder::new()
+            .name("higraph-diagnostics".into())
+            .spawn(
+                move || match super::catch(|| handlers::publishable_diagnostics(&snapshot)) {
+                    Ok(files) => {
+                        drop(snapshot);
+                        let _ = tasks.send(Task::DiagnosticsReady { revision, files });
+                    }
+                    Err(super::Failure::Cancelled) => {}
+                    Err(failure) => {
+                        let _ = to_client.send(ToClient::Log {
+                            kind: MessageType::ERROR,
+                            message: format!("cannot compute diagnostics: {failure}"),
+                        });
+                    }
+                },
+            );
+        if let Err(error) = started {
+            self.log(
+                MessageType::ERROR,
+                format!("cannot start the diagnostics thread: {error}"),
+            );
+        }
+    }
+
+    /// Publishes the diagnostics of every file whose diagnostics changed since they were last
+    /// published; a file that has none any more gets an empty list.
+    fn publish(&mut self, files: Vec<(String, Vec<lsp::Diagnostic>)>) {
+        let mut current: HashSet<String> = HashSet::new();
+        for (name, diagnostics) in files {
+            current.insert(name.clone());
+            let unchanged = match self.published.get(&name) {
+                Some((_, published)) => *published == diagnostics,
+                None => diagnostics.is_empty(),
+            };
+            if unchanged {
+                continue;
+            }
+            let uri = match self.documents.get(&name) {
+                Some(document) => Some(document.uri.clone()),
+                None => self.paths.uri(&name),
+            };
+            let Some(uri) = uri else {
+                continue;
+            };
+            let version = self.documents.get(&name).map(|d| d.version);
+            let _ = self.to_client.send(ToClient::Publish {
+                uri: uri.clone(),
+                diagnostics: diagnostics.clone(),
+                version,
+            });
+            if diagnostics.is_empty() {
+                self.published.remove(&name);
+            } else {
+                self.published.insert(name, (uri, diagnostics));
+            }
+        }
+        let gone: Vec<String> = self
+            .published
+            .keys()
+            .filter(|name| !current.contains(*name))
+            .cloned()
+            .collect();
+        for name in gone {
+            if let Some((uri, _)) = self.published.remove(&name) {
+                let _ = self.to_client.send(ToClient::Publish {
+                    uri,
+                    diagnostics: Vec::new(),
+                    version: None,
+                });
+            }
+        }
+        if let Some(progress) = self.index_progress.take() {
+            let _ = progress.send(IndexProgress::Done {
+                message: format!("{} indexed", count_files(self.host.paths().len())),
+            });
+        }
+    }
+}
+
+/// The path map for the client's root folder: the workspace root is the nearest folder
+/// upwards holding `higraph.toml`, as for `check`.
+fn path_map(client_root: &Path) -> PathMap {
+    let canonical =
+        std::fs::canonicalize(client_root).unwrap_or_else(|_| client_root.to_path_buf());
+    let root = workspace::find_root(&canonical);
+    // The same folder as the client would write it: as many levels up from its root folder as
+    // the workspace root is above the canonical one.
+    let levels = canonical
+        .components()
+        .count()
+        .saturating_sub(root.components().count());
+    let mut client_side = client_root.to_path_buf();
+    for _ in 0..levels {
+        client_side.pop();
+    }
+    PathMap::new(root, client_side)
+}
+
+/// Whether a workspace path is the configuration or a symbol table: a change reloads the
+/// workspace.
+fn is_settings(name: &str) -> bool {
+    name == CONFIG_FILE || name.ends_with(".sdf")
+}
+
+fn count_files(n: usize) -> String {
+    match n {
+        1 => "1 file".to_owned(),
+        n => format!("{n} files"),
+    }
+}

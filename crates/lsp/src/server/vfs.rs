@@ -1,0 +1,334 @@
+//! The server's view of files: which URI names which workspace path ([`PathMap`]), and the
+//! documents the client has open, whose text the client owns ([`Documents`]).
+//!
+//! The analysis names files by their workspace-relative `/` path, exactly as the command line
+//! does (`workspace::display_name`); a file outside the workspace root keeps its absolute path.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use higraph_analysis::{LineIndex, PositionEncoding};
+use tower_lsp_server::ls_types::{TextDocumentContentChangeEvent, Uri};
+
+use super::convert;
+use crate::workspace;
+
+/// Maps between the client's URIs and the analysis' workspace paths.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PathMap {
+    /// The workspace root (canonical): the folder holding `higraph.toml`, else the client's
+    /// root folder. `None` when the client opened no folder: then only open documents are
+    /// analysed, each named by its absolute path.
+    root: Option<PathBuf>,
+    /// The root as the client wrote it (maybe through a symbolic link), so URIs the server
+    /// makes look like the client's own.
+    client_root: Option<PathBuf>,
+}
+
+impl PathMap {
+    /// The map for a workspace root: `root` is canonical, `client_root` the same folder as
+    /// the client names it.
+    pub(crate) fn new(root: PathBuf, client_root: PathBuf) -> PathMap {
+        PathMap {
+            root: Some(root),
+            client_root: Some(client_root),
+        }
+    }
+
+    /// The canonical workspace root, if there is one.
+    pub(crate) fn root(&self) -> Option<&Path> {
+        self.root.as_deref()
+    }
+
+    /// The file a `file:` URI names; `None` for other schemes.
+    pub(crate) fn file_path(uri: &Uri) -> Option<PathBuf> {
+        let is_file = uri.scheme().as_str().eq_ignore_ascii_case("file");
+        if !is_file {
+            return None;
+        }
+        uri.to_file_path().map(|path| path.into_owned())
+    }
+
+    /// The workspace path of the file a URI names: relative to the root with `/`
+    /// separators, or absolute for a file outside the root. `None` for non-`file:` URIs.
+    pub(crate) fn name(&self, uri: &Uri) -> Option<String> {
+        let path = PathMap::file_path(uri)?;
+        Some(self.name_of_path(&path))
+    }
+
+    /// The workspace path of an absolute file path.
+    pub(crate) fn name_of_path(&self, path: &Path) -> String {
+        for root in [&self.client_root, &self.root].into_iter().flatten() {
+            if path.starts_with(root) {
+                return workspace::display_name(root, path);
+            }
+        }
+        // The client may name the file through a link the root does not go through.
+        if let (Some(root), Ok(canonical)) = (&self.root, std::fs::canonicalize(path)) {
+            if canonical.starts_with(root) {
+                return workspace::display_name(root, &canonical);
+            }
+        }
+        path.to_string_lossy().replace('\\', "/")
+    }
+
+    /// The absolute file path of a workspace path.
+    pub(crate) fn absolute(&self, name: &str) -> Option<PathBuf> {
+        let path = Path::new(name);
+        if path.is_absolute() {
+            return Some(path.to_path_buf());
+        }
+        let root = self.client_root.as_ref().or(self.root.as_ref())?;
+        Some(
+            name.split('/')
+                .fold(root.clone(), |path, part| path.join(part)),
+        )
+    }
+
+    /// The URI of a workspace path.
+    pub(crate) fn uri(&self, name: &str) -> Option<Uri> {
+        Uri::from_file_path(self.absolute(name)?)
+    }
+}
+
+/// A document the client has open.
+#[derive(Debug, Clone)]
+pub(crate) struct Document {
+    /// The URI exactly as the client sent it (diagnostics are published to it).
+    pub uri: Uri,
+    /// The client's version, increasing with every change.
+    pub version: i32,
+    /// The current text.
+    pub text: String,
+    /// Whether the document is a source file the analysis sees (a `.higraph` file or a
+    /// document of language `higraph`); `higraph.toml` and symbol tables are only tracked.
+    pub analysed: bool,
+}
+
+/// Why a change notification was ignored.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum ChangeRejected {
+    /// The document is not open.
+    NotOpen,
+    /// The version is not newer than the one the server has.
+    Stale { have: i32, got: i32 },
+}
+
+impl std::fmt::Display for ChangeRejected {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ChangeRejected::NotOpen => f.write_str("the document is not open"),
+            ChangeRejected::Stale { have, got } => write!(
+                f,
+                "version {got} is not newer than the document's version {have}"
+            ),
+        }
+    }
+}
+
+/// The open documents, by workspace path.
+#[derive(Debug, Default)]
+pub(crate) struct Documents {
+    open: HashMap<String, Document>,
+}
+
+impl Documents {
+    /// Records an opened document (replacing one of the same path).
+    pub(crate) fn open(&mut self, name: String, document: Document) {
+        self.open.insert(name, document);
+    }
+
+    /// Forgets a closed document.
+    pub(crate) fn close(&mut self, name: &str) -> Option<Document> {
+        self.open.remove(name)
+    }
+
+    /// The open document of a workspace path.
+    pub(crate) fn get(&self, name: &str) -> Option<&Document> {
+        self.open.get(name)
+    }
+
+    /// Every open document with its workspace path.
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (&String, &Document)> {
+        self.open.iter()
+    }
+
+    /// Applies the changes of one `didChange` notification, in order, and returns the new
+    /// text. Ranges are in `encoding`; out-of-range positions are clamped, never a panic.
+    pub(crate) fn change(
+        &mut self,
+        name: &str,
+        version: i32,
+        changes: Vec<TextDocumentContentChangeEvent>,
+        encoding: PositionEncoding,
+    ) -> Result<&str, ChangeRejected> {
+        let document = self.open.get_mut(name).ok_or(ChangeRejected::NotOpen)?;
+        if version <= document.version {
+            return Err(ChangeRejected::Stale {
+                have: document.version,
+                got: version,
+            });
+        }
+        for change in changes {
+            apply_change(&mut document.text, change, encoding);
+        }
+        document.version = version;
+        Ok(&document.text)
+    }
+}
+
+/// Applies one content change: a ranged replacement, or the whole text when there is no
+/// range.
+pub(crate) fn apply_change(
+    text: &mut String,
+    change: TextDocumentContentChangeEvent,
+    encoding: PositionEncoding,
+) {
+    let Some(range) = change.range else {
+        *text = change.text;
+        return;
+    };
+    let index = LineIndex::new(text);
+    let range = convert::text_range(&index, range, encoding);
+    text.replace_range(
+        usize::from(range.start())..usize::from(range.end()),
+        &change.text,
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use tower_lsp_server::ls_types::{Position, Range};
+
+    use super::*;
+
+    fn change(
+        range: Option<((u32, u32), (u32, u32))>,
+        text: &str,
+    ) -> TextDocumentContentChangeEvent {
+        TextDocumentContentChangeEvent {
+            range: range.map(|((l1, c1), (l2, c2))| {
+                Range::new(Position::new(l1, c1), Position::new(l2, c2))
+            }),
+            range_length: None,
+            text: text.to_owned(),
+        }
+    }
+
+    #[test]
+    fn ranged_changes_apply_in_order() {
+        let mut text = "graph A <\n  in < x : BOOL; >\n>\n".to_owned();
+        apply_change(
+            &mut text,
+            change(Some(((1, 7), (1, 8))), "Oben"),
+            PositionEncoding::Utf16,
+        );
+        apply_change(
+            &mut text,
+            change(Some(((0, 6), (0, 7))), "Ventil"),
+            PositionEncoding::Utf16,
+        );
+        assert_eq!(text, "graph Ventil <\n  in < Oben : BOOL; >\n>\n");
+        apply_change(&mut text, change(None, "x"), PositionEncoding::Utf16);
+        assert_eq!(text, "x");
+    }
+
+    #[test]
+    fn columns_follow_the_encoding() {
+        // `😀` is 2 UTF-16 units and 4 UTF-8 bytes; `ü` is 1 unit and 2 bytes.
+        let original = "// 😀ü x\n";
+        let mut utf16 = original.to_owned();
+        apply_change(
+            &mut utf16,
+            change(Some(((0, 7), (0, 8))), "y"),
+            PositionEncoding::Utf16,
+        );
+        assert_eq!(utf16, "// 😀ü y\n");
+        let mut utf8 = original.to_owned();
+        apply_change(
+            &mut utf8,
+            change(Some(((0, 10), (0, 11))), "y"),
+            PositionEncoding::Utf8,
+        );
+        assert_eq!(utf8, "// 😀ü y\n");
+    }
+
+    #[test]
+    fn out_of_range_and_reversed_ranges_are_clamped() {
+        let mut text = "ab\ncd".to_owned();
+        apply_change(
+            &mut text,
+            change(Some(((9, 0), (99, 99))), "!"),
+            PositionEncoding::Utf16,
+        );
+        assert_eq!(text, "ab\ncd!");
+        apply_change(
+            &mut text,
+            change(Some(((0, 2), (0, 1))), ""),
+            PositionEncoding::Utf16,
+        );
+        assert_eq!(text, "a\ncd!");
+        // Inside a surrogate pair: the start of the character.
+        let mut text = "😀".to_owned();
+        apply_change(
+            &mut text,
+            change(Some(((0, 1), (0, 1))), "x"),
+            PositionEncoding::Utf16,
+        );
+        assert_eq!(text, "x😀");
+    }
+
+    #[test]
+    fn changes_need_an_open_document_and_a_newer_version() {
+        let mut documents = Documents::default();
+        let uri: Uri = "file:///ws/a.higraph".parse().expect("a URI");
+        assert_eq!(
+            documents.change("a.higraph", 2, vec![], PositionEncoding::Utf16),
+            Err(ChangeRejected::NotOpen)
+        );
+        documents.open(
+            "a.higraph".into(),
+            Document {
+                uri,
+                version: 3,
+                text: "a".into(),
+                analysed: true,
+            },
+        );
+        assert_eq!(
+            documents.change(
+                "a.higraph",
+                3,
+                vec![change(None, "b")],
+                PositionEncoding::Utf16
+            ),
+            Err(ChangeRejected::Stale { have: 3, got: 3 })
+        );
+        assert_eq!(
+            documents.change(
+                "a.higraph",
+                4,
+                vec![change(None, "b")],
+                PositionEncoding::Utf16
+            ),
+            Ok("b")
+        );
+    }
+
+    #[test]
+    fn names_are_workspace_relative() {
+        let map = PathMap::new(PathBuf::from("/ws"), PathBuf::from("/ws"));
+        let uri: Uri = "file:///ws/graphs/a%20b.higraph".parse().expect("a URI");
+        assert_eq!(map.name(&uri).as_deref(), Some("graphs/a b.higraph"));
+        let outside: Uri = "file:///elsewhere/c.higraph".parse().expect("a URI");
+        assert_eq!(map.name(&outside).as_deref(), Some("/elsewhere/c.higraph"));
+        let untitled: Uri = "untitled:Untitled-1".parse().expect("a URI");
+        assert_eq!(map.name(&untitled), None);
+        assert_eq!(
+            map.uri("graphs/a b.higraph")
+                .map(|u| u.as_str().to_owned())
+                .as_deref(),
+            Some("file:///ws/graphs/a%20b.higraph")
+        );
+    }
+}

@@ -1,0 +1,14 @@
+// compact review view: each source line, then its tokens as text[last-scope-part]
+import { tokenize } from '../test/harness.mjs';
+import { readFileSync } from 'node:fs';
+const text = readFileSync(process.argv[2], 'utf8');
+const lines = await tokenize(text);
+const src = text.split(/\r?\n/);
+lines.forEach((toks, i) => {
+  console.log(`${String(i+1).padStart(3)}| ${src[i]}`);
+  const parts = toks.filter(t => t.text.trim()).map(t => {
+    const sc = t.scopes.slice(1).map(s => s.replace('.higraph','')).join(' ');
+    return sc ? `${t.text.trim()}[${sc}]` : t.text.trim();
+  });
+  console.log('   > ' + parts.join('  '));
+});

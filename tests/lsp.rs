@@ -1,0 +1,14 @@
+//! End-to-end tests of the language server (`tooling.md` §4): the real `higraph-lsp` binary
+//! driven over stdio by a small JSON-RPC client, as an editor drives it.
+
+#[path = "lsp/client.rs"]
+mod client;
+
+#[path = "lsp/diagnostics.rs"]
+mod diagnostics;
+#[path = "lsp/features.rs"]
+mod features;
+#[path = "lsp/lifecycle.rs"]
+mod lifecycle;
+#[path = "lsp/robustness.rs"]
+mod robustness;

@@ -1,0 +1,478 @@
+//! Published diagnostics (`diagnostics.md` §1.5, §4.4): for every workspace file, open or
+//! not, the same (code, severity, file, range, message, related) as `check --format json` for
+//! the same content; kept current through edits, closes, file events and configuration
+//! changes; re-published only for files whose diagnostics changed; positions in the
+//! negotiated encoding.
+
+use std::collections::BTreeSet;
+use std::time::Duration;
+
+use serde_json::{Value, json};
+
+use crate::client::{Server, TempTree, file_uri, repo_root};
+
+/// One diagnostic as both sides can state it: code, severity, file, range, message, related
+/// locations, and whether it is tagged unnecessary.
+type Comparable = (
+    String,
+    String,
+    String,
+    [u64; 4],
+    String,
+    Vec<(String, [u64; 4], String)>,
+    bool,
+);
+
+fn range(value: &Value) -> [u64; 4] {
+    let n = |v: &Value| v.as_u64().unwrap_or(u64::MAX);
+    [
+        n(&value["start"]["line"]),
+        n(&value["start"]["character"]),
+        n(&value["end"]["line"]),
+        n(&value["end"]["character"]),
+    ]
+}
+
+/// The diagnostics of `check --format json`.
+fn from_check(report: &Value) -> BTreeSet<Comparable> {
+    report["diagnostics"]
+        .as_array()
+        .expect("diagnostics")
+        .iter()
+        .map(|d| {
+            let code = d["code"].as_str().unwrap_or_default().to_owned();
+            let unnecessary = ["HG1210", "HG1212", "HG6004"].contains(&code.as_str());
+            (
+                code,
+                d["severity"].as_str().unwrap_or_default().to_owned(),
+                d["file"].as_str().unwrap_or_default().to_owned(),
+                range(&d["range"]),
+                d["message"].as_str().unwrap_or_default().to_owned(),
+                d["related"]
+                    .as_array()
+                    .expect("related")
+                    .iter()
+                    .map(|r| {
+                        (
+                            r["file"].as_str().unwrap_or_default().to_owned(),
+                            range(&r["range"]),
+                            r["message"].as_str().unwrap_or_default().to_owned(),
+                        )
+                    })
+                    .collect(),
+                unnecessary,
+            )
+        })
+        .collect()
+}
+
+/// The diagnostics the server published last for each file.
+fn from_server(server: &Server, tree: &TempTree) -> BTreeSet<Comparable> {
+    let prefix = format!("{}/", file_uri(&tree.path()));
+    let file = |uri: &str| uri.strip_prefix(&prefix).unwrap_or(uri).to_owned();
+    let mut all = BTreeSet::new();
+    for (uri, diagnostics) in &server.diagnostics {
+        for d in diagnostics {
+            assert_eq!(d["source"], "higraph", "{d}");
+            let severity = match d["severity"].as_u64() {
+                Some(1) => "error",
+                Some(2) => "warning",
+                Some(3) => "info",
+                Some(4) => "hint",
+                _ => "?",
+            };
+            let unnecessary = match &d["tags"] {
+                Value::Null => false,
+                tags => tags == &json!([1]),
+            };
+            all.insert((
+                d["code"].as_str().unwrap_or_default().to_owned(),
+                severity.to_owned(),
+                file(uri),
+                range(&d["range"]),
+                d["message"].as_str().unwrap_or_default().to_owned(),
+                d["relatedInformation"]
+                    .as_array()
+                    .map(|related| {
+                        related
+                            .iter()
+                            .map(|r| {
+                                (
+                                    file(r["location"]["uri"].as_str().unwrap_or_default()),
+                                    range(&r["location"]["range"]),
+                                    r["message"].as_str().unwrap_or_default().to_owned(),
+                                )
+                            })
+                            .collect()
+                    })
+                    .unwrap_or_default(),
+                unnecessary,
+            ));
+        }
+    }
+    all
+}
+
+fn assert_same(server: &Server, tree: &TempTree) {
+    let expected = from_check(&tree.check_json());
+    let published = from_server(server, tree);
+    let missing: Vec<_> = expected.difference(&published).collect();
+    let extra: Vec<_> = published.difference(&expected).collect();
+    assert!(
+        missing.is_empty() && extra.is_empty(),
+        "check reports but the server did not publish:\n{missing:#?}\nthe server published but check does not report:\n{extra:#?}"
+    );
+}
+
+/// The `mistakes` example plus a symbol table with bad lines, an unused variable, a name
+/// defined in two files (related information in another file) and a configuration problem.
+fn rich_workspace() -> TempTree {
+    let tree = TempTree::new();
+    let mistakes = repo_root().join("examples/mistakes");
+    for entry in std::fs::read_dir(&mistakes).expect("the mistakes example") {
+        let entry = entry.expect("an entry");
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".higraph") {
+            tree.file(&name, std::fs::read(entry.path()).expect("read"));
+        }
+    }
+    tree.file(
+        "higraph.toml",
+        "[workspace]\nmnemonic = \"simatic\"\nsymbols = [\"plc/symbols.sdf\"]\nunknown_key = 1\n\n[diagnostics]\nHG2402 = \"hint\"\n",
+    )
+    .file(
+        "plc/symbols.sdf",
+        "\"Motor\",\"A 4.0\",\"BOOL\",\"\"\n\"Band\",\"A 4.1\",\"BOOL\"\n\"Rezept\",\"MD 20\",\"UDT 7\",\"\"\n",
+    )
+    .file(
+        "graphs/pumpe.higraph",
+        "// Pumpe für Öl 😀\ngraph Pumpe <\n  in < Ungenutzt : BOOL; >\n  state 0 < C: U Motor; >\n  trans any->0 < U INIT_SD; >\n>\n",
+    )
+    .file(
+        "graphs/doppelt.higraph",
+        "graph Ventil <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n",
+    );
+    tree
+}
+
+#[test]
+fn diagnostics_of_every_file_at_start_equal_check_json() {
+    let tree = rich_workspace();
+    let mut server = Server::indexed(&tree.path());
+    server.drain(Duration::from_millis(200));
+    let codes: BTreeSet<String> = server
+        .diagnostics
+        .values()
+        .flatten()
+        .filter_map(|d| d["code"].as_str().map(str::to_owned))
+        .collect();
+    // The workspace exercises configuration, import, related-information and tag paths.
+    for code in ["HG6101", "HG6005", "HG1210", "HG2301", "HG1301"] {
+        assert!(codes.contains(code), "{code} missing from {codes:?}");
+    }
+    assert_same(&server, &tree);
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+/// A change of `text` replacing `range` (0-based lines and UTF-16 columns).
+fn change(range: [u32; 4], text: &str) -> Value {
+    json!({
+        "range": {
+            "start": {"line": range[0], "character": range[1]},
+            "end": {"line": range[2], "character": range[3]},
+        },
+        "text": text,
+    })
+}
+
+fn open(server: &mut Server, uri: &str, text: &str) {
+    server.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": uri, "languageId": "higraph", "version": 1, "text": text}}),
+    );
+}
+
+fn edit(server: &mut Server, uri: &str, version: i64, changes: Vec<Value>) {
+    server.notify(
+        "textDocument/didChange",
+        json!({"textDocument": {"uri": uri, "version": version}, "contentChanges": changes}),
+    );
+}
+
+#[test]
+fn edits_keep_diagnostics_equal_to_check_on_the_same_content() {
+    let tree = rich_workspace();
+    let mut server = Server::indexed(&tree.path());
+    let path = "graphs/pumpe.higraph";
+    let uri = tree.uri(path);
+    let mut text = std::fs::read_to_string(tree.path().join(path)).expect("read");
+    open(&mut server, &uri, &text);
+
+    // Rename the graph to a name another file uses (HG1301 in both files), and use the
+    // variable (its HG1210 goes away); then a lexer error as the last edit, which only
+    // changes this file's diagnostics: once it is published, every earlier publication
+    // has arrived.
+    let edits = [
+        ([1, 6, 1, 11], "Ventil"),
+        ([3, 23, 3, 23], " U Ungenutzt;"),
+        ([5, 1, 5, 1], " $"),
+    ];
+    for (n, (range, new_text)) in edits.iter().enumerate() {
+        let version = n as i64 + 2;
+        edit(&mut server, &uri, version, vec![change(*range, new_text)]);
+        text = apply(&text, *range, new_text);
+        let published = server.wait_for_diagnostics(&uri, version);
+        if n == 0 {
+            assert!(
+                published.iter().any(|d| d["code"] == "HG1301"),
+                "{published:?}"
+            );
+        }
+    }
+    tree.file(path, &text);
+    assert_same(&server, &tree);
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+/// `text` with `range` (UTF-16 line/column; this test's edits are in ASCII lines) replaced.
+fn apply(text: &str, range: [u32; 4], new_text: &str) -> String {
+    let offset = |line: u32, column: u32| {
+        let start: usize = text
+            .split_inclusive('\n')
+            .take(line as usize)
+            .map(str::len)
+            .sum();
+        start + column as usize
+    };
+    let (start, end) = (offset(range[0], range[1]), offset(range[2], range[3]));
+    format!("{}{}{}", &text[..start], new_text, &text[end..])
+}
+
+#[test]
+fn only_files_whose_diagnostics_changed_are_published_again() {
+    let tree = rich_workspace();
+    let mut server = Server::indexed(&tree.path());
+    server.drain(Duration::from_millis(200));
+    let uri = tree.uri("steuerung.higraph");
+    let text = std::fs::read_to_string(tree.path().join("steuerung.higraph")).expect("read");
+    open(&mut server, &uri, &text);
+    let before = server.publications.len();
+    // A comment at the end changes nothing.
+    let lines = text.lines().count() as u32;
+    edit(
+        &mut server,
+        &uri,
+        2,
+        vec![change([lines, 0, lines, 0], "// nichts\n")],
+    );
+    // A lexer error changes this file's diagnostics only.
+    edit(
+        &mut server,
+        &uri,
+        3,
+        vec![change([lines, 0, lines, 0], "$")],
+    );
+    server.wait_for_diagnostics(&uri, 3);
+    let since: Vec<_> = server.publications[before..].to_vec();
+    assert_eq!(since, vec![(uri.clone(), Some(3))], "{since:?}");
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+/// A configuration that switches off the hints tiny test graphs would get (a state without a
+/// way out, an unused variable).
+const QUIET: &str = "[diagnostics]\nHG2402 = \"off\"\nHG1210 = \"off\"\n";
+
+#[test]
+fn incremental_changes_apply_in_order_with_several_ranges() {
+    let tree = TempTree::new();
+    tree.file("higraph.toml", QUIET);
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("neu.higraph");
+    open(
+        &mut server,
+        &uri,
+        "graph Neu <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n",
+    );
+    // Several changes in one notification, each relative to the text after the previous.
+    edit(
+        &mut server,
+        &uri,
+        2,
+        vec![
+            change([1, 11, 1, 11], "C: U Fehlt; "),
+            change([0, 6, 0, 9], "Neuer"),
+            json!({"text": "graph Ganz <\n  state 0 < C: U Fehlt; >\n  trans any->0 < U INIT_SD; >\n>\n"}),
+            change([1, 17, 1, 22], "Auch"),
+        ],
+    );
+    let published = server.wait_for_diagnostics(&uri, 2);
+    let messages: Vec<&str> = published
+        .iter()
+        .filter_map(|d| d["message"].as_str())
+        .collect();
+    assert_eq!(published.len(), 1, "{published:?}");
+    assert!(messages[0].contains("'Auch'"), "{messages:?}");
+    assert_eq!(
+        published[0]["range"],
+        json!({"start": {"line": 1, "character": 17}, "end": {"line": 1, "character": 21}})
+    );
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+#[test]
+fn closing_a_document_returns_to_the_text_on_disk() {
+    let tree = TempTree::new();
+    let clean = "graph A <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n";
+    tree.file("higraph.toml", QUIET).file("a.higraph", clean);
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("a.higraph");
+    open(&mut server, &uri, clean);
+    edit(&mut server, &uri, 2, vec![change([3, 1, 3, 1], " $")]);
+    assert_eq!(server.wait_for_diagnostics(&uri, 2).len(), 1);
+    server.notify(
+        "textDocument/didClose",
+        json!({"textDocument": {"uri": uri}}),
+    );
+    let back = server.wait_for("diagnostics of the closed file", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri.as_str()
+    });
+    assert_eq!(back["params"]["diagnostics"], json!([]), "{back}");
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+#[test]
+fn a_document_not_on_disk_is_analysed_while_open() {
+    let tree = TempTree::new();
+    tree.file("higraph.toml", QUIET).file(
+        "a.higraph",
+        "graph A <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n",
+    );
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("entwurf.higraph");
+    open(&mut server, &uri, "graph A <\n>\n");
+    let published = server.wait_for_diagnostics(&uri, 1);
+    assert!(
+        published.iter().any(|d| d["code"] == "HG1301"),
+        "{published:?}"
+    );
+    server.notify(
+        "textDocument/didClose",
+        json!({"textDocument": {"uri": uri}}),
+    );
+    let gone = server.wait_for("the closed document's diagnostics cleared", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri.as_str()
+    });
+    assert_eq!(gone["params"]["diagnostics"], json!([]));
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+#[test]
+fn watched_file_events_add_change_and_remove_files_and_reload_the_configuration() {
+    let tree = TempTree::new();
+    tree.file("higraph.toml", QUIET).file(
+        "a.higraph",
+        "graph A <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n",
+    );
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("graphs/b.higraph");
+    let watched = |server: &mut Server, uri: &str, kind: u32| {
+        server.notify(
+            "workspace/didChangeWatchedFiles",
+            json!({"changes": [{"uri": uri, "type": kind}]}),
+        );
+    };
+    // Created: a graph without startup transition (HG2201).
+    tree.file("graphs/b.higraph", "graph B <\n  state 0 < >\n>\n");
+    watched(&mut server, &uri, 1);
+    let created = server.wait_for("diagnostics of the new file", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri.as_str()
+    });
+    assert!(
+        created["params"]["diagnostics"][0]["code"] == "HG2201",
+        "{created}"
+    );
+    // The configuration switches the rule off.
+    tree.file("higraph.toml", format!("{QUIET}HG2201 = \"off\"\n"));
+    watched(&mut server, &tree.uri("higraph.toml"), 2);
+    let reloaded = server.wait_for("diagnostics after the configuration change", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri.as_str()
+    });
+    assert_eq!(reloaded["params"]["diagnostics"], json!([]), "{reloaded}");
+    // Changed on disk: a lexer error.
+    tree.file("graphs/b.higraph", "graph B <\n  state 0 < >\n> $\n");
+    watched(&mut server, &uri, 2);
+    let changed = server.wait_for("diagnostics of the changed file", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri.as_str()
+    });
+    assert_eq!(
+        changed["params"]["diagnostics"][0]["code"], "HG0009",
+        "{changed}"
+    );
+    // Deleted.
+    std::fs::remove_file(tree.path().join("graphs/b.higraph")).expect("delete");
+    watched(&mut server, &uri, 3);
+    let deleted = server.wait_for("diagnostics of the deleted file cleared", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri.as_str()
+    });
+    assert_eq!(deleted["params"]["diagnostics"], json!([]), "{deleted}");
+    // Files in skipped folders are not part of the workspace.
+    tree.file("target/c.higraph", "graph C <\n>\n");
+    watched(&mut server, &tree.uri("target/c.higraph"), 1);
+    server.drain(Duration::from_millis(300));
+    assert!(
+        !server
+            .diagnostics
+            .contains_key(&tree.uri("target/c.higraph")),
+        "{:?}",
+        server.diagnostics
+    );
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+#[test]
+fn utf8_positions_when_the_client_offers_them() {
+    let tree = TempTree::new();
+    // HG0009 on `ä`, after an astral character and an umlaut on the same line.
+    let text = "graph G \"😀 Öl\" < in < Zähler : INT; > >\n";
+    tree.file(
+        "higraph.toml",
+        "[diagnostics]\nHG2201 = \"off\"\nHG1210 = \"off\"\n",
+    )
+    .file("g.higraph", text);
+    let (mut server, result) = Server::initialized(
+        &tree.path(),
+        json!({
+            "general": {"positionEncodings": ["utf-8", "utf-16"]},
+            "window": {"workDoneProgress": true},
+        }),
+    );
+    assert_eq!(
+        result["capabilities"]["positionEncoding"], "utf-8",
+        "{result}"
+    );
+    server.wait_for_progress_end();
+    server.drain(Duration::from_millis(200));
+    let uri = tree.uri("g.higraph");
+    let byte = text.find('ä').expect("an umlaut") as u64;
+    let published = server.diagnostics.get(&uri).cloned().unwrap_or_default();
+    assert_eq!(published.len(), 1, "{published:?}");
+    assert_eq!(
+        published[0]["range"]["start"]["character"], byte,
+        "{published:?}"
+    );
+
+    // An edit in UTF-8 columns: replace `Zähler` (bytes) with `Zaehler`.
+    open(&mut server, &uri, text);
+    let end = byte + 'ä'.len_utf8() as u64 + "hler".len() as u64;
+    let start = byte - 1;
+    edit(
+        &mut server,
+        &uri,
+        2,
+        vec![
+            json!({"range": {"start": {"line": 0, "character": start}, "end": {"line": 0, "character": end}}, "text": "Zaehler"}),
+        ],
+    );
+    assert_eq!(server.wait_for_diagnostics(&uri, 2), Vec::<Value>::new());
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
