@@ -1,4 +1,6 @@
-// compact review view: each source line, then its tokens as text[last-scope-part]
+// A compact view of how the grammar tokenizes a file, for reviewing snapshot changes: each
+// source line, then its tokens as text[scopes] (the `.higraph` suffix left out).
+//   node scripts/review-tokens.mjs FILE.higraph
 import { tokenize } from '../test/harness.mjs';
 import { readFileSync } from 'node:fs';
 const text = readFileSync(process.argv[2], 'utf8');
