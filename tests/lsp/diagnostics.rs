@@ -476,3 +476,33 @@ fn utf8_positions_when_the_client_offers_them() {
     assert_eq!(server.wait_for_diagnostics(&uri, 2), Vec::<Value>::new());
     assert_eq!(server.shutdown_and_exit(), 0);
 }
+
+#[test]
+fn a_configuration_change_notification_reloads_higraph_toml() {
+    let tree = TempTree::new();
+    tree.file("higraph.toml", QUIET)
+        .file("b.higraph", "graph B <\n  state 0 < >\n>\n");
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("b.higraph");
+    let codes = |server: &Server| -> Vec<String> {
+        server
+            .diagnostics
+            .get(&uri)
+            .into_iter()
+            .flatten()
+            .filter_map(|d| d["code"].as_str().map(str::to_owned))
+            .collect()
+    };
+    assert_eq!(codes(&server), ["HG2201"]);
+    server.notifications.clear();
+    tree.file("higraph.toml", format!("{QUIET}HG2201 = \"warning\"\n"));
+    server.notify("workspace/didChangeConfiguration", json!({"settings": {}}));
+    let reloaded = server.wait_for("diagnostics after the reload", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri.as_str()
+    });
+    assert_eq!(
+        reloaded["params"]["diagnostics"][0]["severity"], 2,
+        "{reloaded}"
+    );
+    assert_eq!(server.shutdown_and_exit(), 0);
+}

@@ -72,7 +72,7 @@ fn apply_edits(text: &str, edits: &[Value]) -> String {
             )
         })
         .collect();
-    edits.sort_by(|a, b| b.0.cmp(&a.0));
+    edits.sort_by_key(|edit| std::cmp::Reverse(edit.0));
     let mut out = text.to_owned();
     for (start, end, new_text) in edits {
         out.replace_range(start..end, &new_text);
@@ -194,6 +194,17 @@ fn navigation_outline_and_the_other_requests_answer() {
     assert_eq!(
         definition[0]["range"]["start"]["line"], declaration.0,
         "{definition}"
+    );
+
+    let hover = server
+        .request("textDocument/hover", position(&group, message))
+        .expect("a hover");
+    assert_eq!(hover["contents"]["kind"], "markdown", "{hover}");
+    assert!(
+        hover["contents"]["value"]
+            .as_str()
+            .is_some_and(|text| text.contains("BOOL")),
+        "{hover}"
     );
 
     let mut params = position(&group, message);

@@ -55,6 +55,16 @@ const FRAGMENTS: &[&str] = &[
     "prio 300",
 ];
 
+/// Message bodies that are not JSON, not an object, or not a JSON-RPC message.
+const UNREADABLE: &[&[u8]] = &[
+    b"{oops",
+    b"[1,2,3]",
+    b"\"string\"",
+    b"{}",
+    b"{\"jsonrpc\":\"1.0\",\"method\":\"initialized\"}",
+    b"\xff\xfe{",
+];
+
 /// Request methods with (mostly) valid parameters at a position.
 const POSITION_METHODS: &[&str] = &[
     "textDocument/hover",
@@ -260,14 +270,7 @@ impl Session {
             }
             // Unreadable bodies: not JSON, not an object, not a JSON-RPC message.
             17 => {
-                let body: &[u8] = *self.rng.pick(&[
-                    &b"{oops"[..],
-                    b"[1,2,3]",
-                    b"\"string\"",
-                    b"{}",
-                    b"{\"jsonrpc\":\"1.0\",\"method\":\"initialized\"}",
-                    b"\xff\xfe{",
-                ]);
+                let body = *self.rng.pick(UNREADABLE);
                 let mut frame = format!("Content-Length: {}\r\n\r\n", body.len()).into_bytes();
                 frame.extend_from_slice(body);
                 self.server.send_raw(&frame);

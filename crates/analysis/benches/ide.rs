@@ -8,6 +8,10 @@
 //! * `completion/max_graph_after_edit` — for comparison: one character typed in another
 //!   transition, then the same operand completion (includes reparsing the 570 kB file and
 //!   recomputing the edited graph's cached data).
+//! * `views/max_graph_inlay_hints_range` — warm database, the inlay hints of 60 lines in the
+//!   middle of the graph (what an editor asks for the visible part).
+//! * `views/max_graph_document_symbols` — warm database, the whole outline (4 090
+//!   transitions, 255 states, the variables).
 //!
 //! Run with `cargo bench -p higraph-analysis --bench ide`.
 
@@ -15,7 +19,9 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use higraph_analysis::{AnalysisHost, FileContents, TextSize, WorkspaceData, ide::FilePosition};
+use higraph_analysis::{
+    AnalysisHost, FileContents, TextRange, TextSize, WorkspaceData, ide::FilePosition,
+};
 
 const PATH: &str = "max_graph.higraph";
 
@@ -59,10 +65,18 @@ fn completion(c: &mut Criterion) {
     }
     let mut group = c.benchmark_group("completion");
     group.bench_function("max_graph_operand", |b| {
-        b.iter(|| analysis.completions(black_box(&operand)).map(|items| items.len()))
+        b.iter(|| {
+            analysis
+                .completions(black_box(&operand))
+                .map(|items| items.len())
+        })
     });
     group.bench_function("max_graph_statement", |b| {
-        b.iter(|| analysis.completions(black_box(&statement)).map(|items| items.len()))
+        b.iter(|| {
+            analysis
+                .completions(black_box(&statement))
+                .map(|items| items.len())
+        })
     });
     drop(analysis);
 
@@ -71,7 +85,9 @@ fn completion(c: &mut Criterion) {
     let at = text
         .find("trans 0->")
         .and_then(|t| text[t..].find(" UN ").map(|i| t + i + 1));
-    let Some(at) = at else { panic!("max-graph has no transition 0->n with a UN condition") };
+    let Some(at) = at else {
+        panic!("max-graph has no transition 0->n with a UN condition")
+    };
     let variants = [text.clone(), format!("{}O{}", &text[..at], &text[at + 1..])];
     let mut flip = 0usize;
     group.sample_size(20);
@@ -79,8 +95,35 @@ fn completion(c: &mut Criterion) {
         b.iter(|| {
             flip ^= 1;
             host.set_file_contents(PATH, FileContents::Text(variants[flip].clone()));
-            host.analysis().completions(&operand).map(|items| items.len())
+            host.analysis()
+                .completions(&operand)
+                .map(|items| items.len())
         })
+    });
+    group.finish();
+}
+
+fn views(c: &mut Criterion) {
+    let text = higraph_workload::max_graph(1);
+    let host = load(&text);
+    let analysis = host.analysis();
+    let _ = analysis.diagnostics();
+    let start = offset_in(&text, "trans 100->101", "trans", 0);
+    let end = text[usize::from(start)..]
+        .match_indices('\n')
+        .nth(60)
+        .map_or(text.len(), |(i, _)| usize::from(start) + i);
+    let visible = TextRange::new(start, TextSize::from(u32::try_from(end).unwrap_or(0)));
+    let mut group = c.benchmark_group("views");
+    group.bench_function("max_graph_inlay_hints_range", |b| {
+        b.iter(|| {
+            analysis
+                .inlay_hints(PATH, Some(black_box(visible)))
+                .map(|h| h.len())
+        })
+    });
+    group.bench_function("max_graph_document_symbols", |b| {
+        b.iter(|| analysis.document_symbols(black_box(PATH)).map(|s| s.len()))
     });
     group.finish();
 }
@@ -90,6 +133,6 @@ criterion_group! {
     config = Criterion::default()
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
-    targets = completion
+    targets = completion, views
 }
 criterion_main!(benches);

@@ -10,7 +10,9 @@
 //! reported once per statement.
 //!
 //! [`read_address_node`] (HG4009–HG4011) is shared with the other rule modules: every place
-//! where an address stands uses it.
+//! where an address stands uses it. So are the diagnostics themselves: [`report_address_error`]
+//! (HG4009–HG4011), [`local_data_warning`] (HG4012), [`case_hint`] (HG1104) and
+//! [`time_operand_not_found`] (HG3005), also used by charts, groups and symbol tables.
 
 use std::collections::{HashMap, HashSet};
 
@@ -257,6 +259,12 @@ impl Resolved<'_> {
         }
     }
 
+    /// Binds it to an absolute address.
+    fn bind_address(&mut self, addr: Address) {
+        self.ty = Some(addr.ty());
+        self.target = Some(Target::Address(addr));
+    }
+
     /// Is it a constant (valid or not)?
     pub fn is_constant(&self) -> bool {
         matches!(self.target, Some(Target::Constant(_)))
@@ -320,8 +328,7 @@ pub(crate) fn resolve_operand<'a>(
             }
             if let Some(addr) = read.address {
                 local_data_warning(ctx, out.range, &out.text, &addr);
-                out.ty = Some(addr.ty());
-                out.target = Some(Target::Address(addr));
+                out.bind_address(addr);
             }
         }
         ast::Operand::VarRef(var_ref) => {
@@ -459,8 +466,7 @@ fn resolve_name<'a>(
         match read.address {
             Ok(addr) => {
                 out.translated = Some(addr.display(ctx.mnemonic));
-                out.ty = Some(addr.ty());
-                out.target = Some(Target::Address(addr));
+                out.bind_address(addr);
             }
             Err(error) => report_address_error(ctx, out.range, &out.text, &error),
         }
@@ -555,8 +561,7 @@ fn read_address_name<'a>(
         Ok(addr) => {
             shadowed_name_warning(ctx, scope, out.range, name, &addr);
             local_data_warning(ctx, out.range, &out.text, &addr);
-            out.ty = Some(addr.ty());
-            out.target = Some(Target::Address(addr));
+            out.bind_address(addr);
         }
         Err(error) => report_address_error(ctx, out.range, &out.text, &error),
     }
@@ -910,7 +915,12 @@ fn pointer_is_valid(ctx: &mut Ctx<'_>, range: TextRange, text: &str, lit: &Liter
 }
 
 /// HG4012: temporary local data.
-pub(crate) fn local_data_warning(ctx: &mut Ctx<'_>, range: TextRange, written: &str, addr: &Address) {
+pub(crate) fn local_data_warning(
+    ctx: &mut Ctx<'_>,
+    range: TextRange,
+    written: &str,
+    addr: &Address,
+) {
     if addr.area == Area::Local {
         let message = format!(
             "'{written}' is temporary local data of the generated FC; its value is not kept"
@@ -930,11 +940,7 @@ pub(crate) fn address_without_space(name: &str, set: Mnemonic) -> Option<address
 /// HG4007: an identifier whose letters are an area only of the other set, followed by digits
 /// (`I1`, `IW2`, `C5` in a SIMATIC file). Read in the other set.
 fn other_set_address_without_space(name: &str, set: Mnemonic) -> Option<address::ReadAddress> {
-    let letters_end = name.find(|c: char| c.is_ascii_digit())?;
-    let (letters, digits) = name.split_at(letters_end);
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
+    let (letters, _) = split_at_number(name)?;
     if address::is_area_word(letters, set) || !address::is_area_word(letters, set.other()) {
         return None;
     }
@@ -944,14 +950,17 @@ fn other_set_address_without_space(name: &str, set: Mnemonic) -> Option<address:
 /// Area letters followed by digits, where the area is not a bit area (an identifier cannot
 /// hold the `.bit`).
 fn well_formed_shape(name: &str, set: Mnemonic) -> bool {
-    let Some(letters_end) = name.find(|c: char| c.is_ascii_digit()) else {
-        return false;
-    };
+    split_at_number(name).is_some_and(|(letters, _)| {
+        address::is_area_word(letters, set) && !address::is_bit_area(letters, set)
+    })
+}
+
+/// An identifier that ends in a number, split before its first digit (`MW` and `10` of
+/// `MW10`); `None` if there is no digit or a non-digit follows the first one.
+fn split_at_number(name: &str) -> Option<(&str, &str)> {
+    let letters_end = name.find(|c: char| c.is_ascii_digit())?;
     let (letters, digits) = name.split_at(letters_end);
-    !digits.is_empty()
-        && digits.bytes().all(|b| b.is_ascii_digit())
-        && address::is_area_word(letters, set)
-        && !address::is_bit_area(letters, set)
+    (!digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())).then_some((letters, digits))
 }
 
 /// An area identifier or register name written alone (§2.4 rule 2, Appendix A.2b).

@@ -48,6 +48,7 @@ use crate::{
 pub struct CompletionItem {
     /// What the list shows and what the client filters by.
     pub label: String,
+    /// What it is (for the icon).
     pub kind: CompletionKind,
     /// One line beside the label: a variable's section and type, an opcode's meaning, ...
     pub detail: Option<String>,
@@ -152,8 +153,7 @@ pub(crate) fn graph_members<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db
     for member in graph.members() {
         match member {
             ast::GraphMember::State(state) => {
-                let Some(number) = state.number().and_then(|n| n.text().parse::<u32>().ok())
-                else {
+                let Some(number) = state.number().and_then(|n| n.text().parse::<u32>().ok()) else {
                     continue;
                 };
                 let name = state.comment().map(|c| c.value());
@@ -248,6 +248,7 @@ use OperandClass as Oc;
 /// The operations of the HiGraph subset (`facts-stl.md` §2.1) with a one-line description, in
 /// the order they are proposed (bit logic first). SIMATIC names; [`lang::op_in_set`] spells
 /// them in the file's set.
+#[rustfmt::skip]
 const OPERATIONS: &[OpInfo] = &[
     op("U", Oc::Scan, "AND: scan a bit and AND it with the RLO"),
     op("UN", Oc::Scan, "AND NOT: scan a bit and AND its negation"),
@@ -411,7 +412,10 @@ const GROUP_OPTIONS: &[(&str, &str)] = &[
         "any_once",
         "an any-transition does not fire when already in its target state",
     ),
-    ("precyclic_on_entry", "run C- actions in the entry cycle too"),
+    (
+        "precyclic_on_entry",
+        "run C- actions in the entry cycle too",
+    ),
     ("restructure", "rebuild the instance DB"),
     (
         "reserve",
@@ -499,7 +503,11 @@ impl Cursor {
     /// The kind of the previous token and of its parent node.
     fn prev_kinds(&self) -> (Option<SyntaxKind>, Option<SyntaxKind>) {
         let kind = self.prev.as_ref().map(|t| t.kind());
-        let parent = self.prev.as_ref().and_then(|t| t.parent()).map(|p| p.kind());
+        let parent = self
+            .prev
+            .as_ref()
+            .and_then(|t| t.parent())
+            .map(|p| p.kind());
         (kind, parent)
     }
 }
@@ -660,6 +668,9 @@ fn classify(root: &SyntaxNode, cursor: &Cursor) -> Site {
     let Some(parent) = prev.parent() else {
         return Site::Nothing;
     };
+    if let Some(site) = chart_comparison(prev, &parent, cursor) {
+        return site;
+    }
     if let Some(list) = list_after(prev, &parent) {
         return element_start(root, &list, cursor.offset);
     }
@@ -721,6 +732,34 @@ fn classify(root: &SyntaxNode, cursor: &Cursor) -> Site {
     }
 }
 
+/// `x > |` in a chart condition: with nothing after it on the line, the parser reads the `>`
+/// as closing the body (`language.md` §1.3), but the user is typing a comparison. Recognised
+/// when the `>` follows an operand and the cursor stands on its line.
+fn chart_comparison(prev: &SyntaxToken, parent: &SyntaxNode, cursor: &Cursor) -> Option<Site> {
+    if prev.kind() != R_ANGLE || parent.kind() != BODY || cursor.new_line {
+        return None;
+    }
+    let owner = parent.parent()?;
+    if !matches!(
+        owner.kind(),
+        START_PART | CHART_TRANS | JUMP | LOOP | STEP_PHASE | PRE_PART | POST_PART
+    ) {
+        return None;
+    }
+    let mut before = prev.prev_token()?;
+    while before.kind().is_trivia() || before.kind() == LEX_ERROR {
+        before = before.prev_token()?;
+    }
+    let after_operand = matches!(
+        before.kind(),
+        IDENT | NUMBER | STRING | TYPED_CONST | CHAR | R_PAREN
+    ) && !line_break_between(&before, prev.text_range().start());
+    after_operand.then(|| Site::ChartOperand {
+        node: parent.clone(),
+        negatable: true,
+    })
+}
+
 /// If `prev` closes an element or opens a list, the list the cursor now stands in.
 fn list_after(prev: &SyntaxToken, parent: &SyntaxNode) -> Option<SyntaxNode> {
     let closing_parents = [BODY, VAR_SECTION, SYMBOLS, BLOCK_INTERFACE, ERROR];
@@ -747,7 +786,7 @@ fn list_after(prev: &SyntaxToken, parent: &SyntaxNode) -> Option<SyntaxNode> {
 fn element_start(root: &SyntaxNode, list: &SyntaxNode, offset: TextSize) -> Site {
     match list.kind() {
         SOURCE_FILE => Site::Item {
-            first: !db_items_before(root, offset),
+            first: !items_before(root, offset),
         },
         BLOCK => match list.parent() {
             Some(body) => element_start(root, &body, offset),
@@ -784,13 +823,14 @@ fn element_start(root: &SyntaxNode, list: &SyntaxNode, offset: TextSize) -> Site
 }
 
 /// Does an item start before `offset`?
-fn db_items_before(root: &SyntaxNode, offset: TextSize) -> bool {
+fn items_before(root: &SyntaxNode, offset: TextSize) -> bool {
     item_nodes(root).any(|n| n.text_range().start() < offset)
 }
 
 /// The top-level item nodes of a file (as [`db::item_nodes`] numbers them).
 fn item_nodes(root: &SyntaxNode) -> impl Iterator<Item = SyntaxNode> + use<> {
-    root.children().filter(|n| ast::Item::cast(n.clone()).is_some())
+    root.children()
+        .filter(|n| ast::Item::cast(n.clone()).is_some())
 }
 
 /// The statement site of the body that holds `node`.
@@ -949,7 +989,12 @@ struct Proposals {
 impl Proposals {
     /// Adds a proposal with rank `rank` (lower ranks sort first; within a rank, the order of
     /// addition).
-    fn add(&mut self, rank: u8, label: impl Into<String>, kind: CompletionKind) -> Option<&mut CompletionItem> {
+    fn add(
+        &mut self,
+        rank: u8,
+        label: impl Into<String>,
+        kind: CompletionKind,
+    ) -> Option<&mut CompletionItem> {
         let label = label.into();
         if !matches_typed(&label, &self.typed) {
             return None;
@@ -1010,7 +1055,12 @@ struct Completer<'a> {
     out: Proposals,
 }
 
-fn complete(db: &dyn salsa::Database, ws: Workspace, file: File, offset: TextSize) -> Vec<CompletionItem> {
+fn complete(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    offset: TextSize,
+) -> Vec<CompletionItem> {
     let root = db::parse(db, file).syntax_node();
     if offset > root.text_range().end() {
         return Vec::new();
@@ -1033,7 +1083,10 @@ fn complete(db: &dyn salsa::Database, ws: Workspace, file: File, offset: TextSiz
         cursor,
         out,
     };
-    let operand_site = matches!(site, Site::Operand { .. } | Site::ActualValue(_) | Site::ChartOperand { .. });
+    let operand_site = matches!(
+        site,
+        Site::Operand { .. } | Site::ActualValue(_) | Site::ChartOperand { .. }
+    );
     // A string is only ever typed as a quoted symbol in operand position.
     if completer.cursor.quoted() && !operand_site {
         return Vec::new();
@@ -1089,12 +1142,18 @@ impl<'a> Completer<'a> {
             Site::ChartProp(keyword) => self.chart_prop(keyword),
             Site::SequencerMember => {
                 self.seq_elements();
-                self.out.keyword(2, "start", "start condition of the sequencer");
-                self.out.keyword(2, "pre", "statements before the steps, each cycle");
-                self.out.keyword(2, "post", "statements after the steps, each cycle");
+                self.out
+                    .keyword(2, "start", "start condition of the sequencer");
+                self.out
+                    .keyword(2, "pre", "statements before the steps, each cycle");
+                self.out
+                    .keyword(2, "post", "statements after the steps, each cycle");
             }
             Site::BranchElement => self.seq_elements(),
-            Site::Branches => self.out.keyword(0, "branch", "a branch of the parallel or alternative"),
+            Site::Branches => {
+                self.out
+                    .keyword(0, "branch", "a branch of the parallel or alternative")
+            }
             Site::StepItem => self.step_items(),
             Site::ChartOperand { node, negatable } => self.chart_operand(&node, negatable),
             Site::ChartOperator => {
@@ -1142,16 +1201,19 @@ impl<'a> Completer<'a> {
                 .to_owned(),
         );
         self.out.keyword(1, "symbols", "a table of global symbols");
-        self.out.keyword(1, "block", "the interface of an external block");
+        self.out
+            .keyword(1, "block", "the interface of an external block");
         if first {
-            self.out.keyword(1, "mnemonic", "the STL mnemonics of this file");
+            self.out
+                .keyword(1, "mnemonic", "the STL mnemonics of this file");
         }
     }
 
     fn section_keywords(&mut self, rank: u8) {
         self.out.keyword(rank, "in", "input parameters");
         self.out.keyword(rank, "out", "output parameters");
-        self.out.keyword(rank, "in_out", "in/out parameters and messages");
+        self.out
+            .keyword(rank, "in_out", "in/out parameters and messages");
         self.out.keyword(rank, "stat", "static variables");
     }
 
@@ -1174,8 +1236,10 @@ impl<'a> Completer<'a> {
             "trans ${1:0}->${2:1} prio ${3:1} <\n  $0\n>".to_owned(),
         );
         self.section_keywords(1);
-        self.out.keyword(1, "activate", "activate predefined variables");
-        self.out.keyword(1, "permanent", "instructions that run every cycle");
+        self.out
+            .keyword(1, "activate", "activate predefined variables");
+        self.out
+            .keyword(1, "permanent", "instructions that run every cycle");
     }
 
     fn statement_start(&mut self, owner: &SyntaxNode) {
@@ -1192,8 +1256,10 @@ impl<'a> Completer<'a> {
             }
         }
         if owner.kind() == STATE {
-            self.out.keyword(2, "wait", "minimum dwell time for 'waits' transitions");
-            self.out.keyword(2, "supervise", "supervision time of the state");
+            self.out
+                .keyword(2, "wait", "minimum dwell time for 'waits' transitions");
+            self.out
+                .keyword(2, "supervise", "supervision time of the state");
         }
         for op in OPERATIONS {
             let label = lang::op_in_set(op.simatic, self.mnemonic);
@@ -1242,17 +1308,26 @@ impl<'a> Completer<'a> {
         };
         let members = graph_members(self.db, item);
         let mut seen = HashSet::new();
-        let mut states: Vec<&StateInfo> = members.states.iter().filter(|s| seen.insert(s.number)).collect();
+        let mut states: Vec<&StateInfo> = members
+            .states
+            .iter()
+            .filter(|s| seen.insert(s.number))
+            .collect();
         states.sort_by_key(|s| s.number);
         for state in states {
-            if let Some(proposal) = self.out.add(0, state.number.to_string(), CompletionKind::State) {
+            if let Some(proposal) = self
+                .out
+                .add(0, state.number.to_string(), CompletionKind::State)
+            {
                 proposal.detail = state.name.as_ref().map(|n| format!("\"{n}\""));
             }
         }
         if source {
-            self.out.keyword(1, "any", "any-transition: from every state");
+            self.out
+                .keyword(1, "any", "any-transition: from every state");
         } else {
-            self.out.keyword(1, "return", "return transition: back to the previous state");
+            self.out
+                .keyword(1, "return", "return transition: back to the previous state");
         }
     }
 
@@ -1274,10 +1349,16 @@ impl<'a> Completer<'a> {
             activated.remove(at);
         }
         for predefined in lang::PREDEFINED.iter().filter(|p| !p.active_by_default) {
-            if activated.iter().any(|a| a.eq_ignore_ascii_case(predefined.name)) {
+            if activated
+                .iter()
+                .any(|a| a.eq_ignore_ascii_case(predefined.name))
+            {
                 continue;
             }
-            if let Some(item) = self.out.add(0, predefined.name, CompletionKind::PredefinedVariable) {
+            if let Some(item) = self
+                .out
+                .add(0, predefined.name, CompletionKind::PredefinedVariable)
+            {
                 item.detail = Some(format!("{} {}", predefined.section.as_str(), predefined.ty));
                 item.documentation = Some(predefined.meaning.to_owned());
             }
@@ -1311,7 +1392,11 @@ impl<'a> Completer<'a> {
             return;
         };
         let class = opcode.map_or(OperandClass::Load, |op| opcode_class(op, self.mnemonic));
-        let preferred: &[Type] = if time { &[Type::Time] } else { class.preferred() };
+        let preferred: &[Type] = if time {
+            &[Type::Time]
+        } else {
+            class.preferred()
+        };
         if class == OperandClass::Nothing {
             return;
         }
@@ -1402,7 +1487,8 @@ impl<'a> Completer<'a> {
             if !matches_typed(&label, &self.out.typed) || !seen.insert(index::key(&symbol.name)) {
                 continue;
             }
-            let rank = if preferred.is_empty() || symbol.ty.is_some_and(|t| preferred.contains(&t)) {
+            let rank = if preferred.is_empty() || symbol.ty.is_some_and(|t| preferred.contains(&t))
+            {
                 2
             } else {
                 5
@@ -1422,7 +1508,11 @@ impl<'a> Completer<'a> {
         let mut seen = HashSet::new();
         let index = self.index;
         for entry in &index.block_interfaces {
-            let reference = entry.reference.split_whitespace().collect::<Vec<_>>().join(" ");
+            let reference = entry
+                .reference
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ");
             if seen.insert(index::key(&reference))
                 && let Some(item) = self.out.add(0, reference, CompletionKind::Symbol)
             {
@@ -1454,7 +1544,8 @@ impl<'a> Completer<'a> {
             "instance Name : Graph < ... >",
             "instance ${1:Name} : ${2:Graph} <\n  $0\n>".to_owned(),
         );
-        self.out.keyword(1, "option", "a compile option of the group");
+        self.out
+            .keyword(1, "option", "a compile option of the group");
     }
 
     fn graph_names(&mut self) {
@@ -1498,7 +1589,11 @@ impl<'a> Completer<'a> {
             }
             let (detail, rank, kind) = match interface.var(name) {
                 Some(var) => {
-                    let rank = if var.message() == Some(MsgDir::Incoming) { 1 } else { 0 };
+                    let rank = if var.message() == Some(MsgDir::Incoming) {
+                        1
+                    } else {
+                        0
+                    };
                     let kind = if var.message().is_some() {
                         CompletionKind::Message
                     } else {
@@ -1524,10 +1619,7 @@ impl<'a> Completer<'a> {
         let Some(actual) = ast::Actual::cast(actual.clone()) else {
             return;
         };
-        let instance = actual
-            .syntax()
-            .ancestors()
-            .find_map(ast::Instance::cast);
+        let instance = actual.syntax().ancestors().find_map(ast::Instance::cast);
         let formal = actual.formal().map(|f| f.text()).unwrap_or_default();
         let var = instance
             .as_ref()
@@ -1578,10 +1670,10 @@ impl<'a> Completer<'a> {
         let Some(group) = actual.ancestors().find_map(ast::Group::cast) else {
             return;
         };
-        let Some(instance) = group
-            .instances()
-            .find(|i| i.name().is_some_and(|n| n.text().eq_ignore_ascii_case(instance_name)))
-        else {
+        let Some(instance) = group.instances().find(|i| {
+            i.name()
+                .is_some_and(|n| n.text().eq_ignore_ascii_case(instance_name))
+        }) else {
             return;
         };
         let Some(interface) = self.instance_interface(&instance) else {
@@ -1604,11 +1696,18 @@ impl<'a> Completer<'a> {
     // -------------------------------------------------------------------- charts
 
     fn chart_members(&mut self) {
-        self.out.keyword(0, "sequencer", "a sequencer of steps and transitions");
+        self.out
+            .keyword(0, "sequencer", "a sequencer of steps and transitions");
         self.section_keywords(1);
-        self.out.keyword(1, "mode", "operating mode: auto or manual");
-        self.out.keyword(1, "switching", "switching mode: T, B, T_or_B, T_and_B or step");
-        self.out.keyword(1, "run", "run option: cyclic, time_monitoring or autostart");
+        self.out
+            .keyword(1, "mode", "operating mode: auto or manual");
+        self.out.keyword(
+            1,
+            "switching",
+            "switching mode: T, B, T_or_B, T_and_B or step",
+        );
+        self.out
+            .keyword(1, "run", "run option: cyclic, time_monitoring or autostart");
     }
 
     fn chart_prop(&mut self, keyword: SyntaxKind) {
@@ -1642,8 +1741,10 @@ impl<'a> Completer<'a> {
         self.out.keyword(0, "trans", "a transition between steps");
         self.out.keyword(1, "parallel", "parallel branches");
         self.out.keyword(1, "alt", "alternative branches");
-        self.out.keyword(1, "jump", "a jump to a step of the sequencer");
-        self.out.keyword(1, "loop", "a loop back to an earlier step");
+        self.out
+            .keyword(1, "jump", "a jump to a step of the sequencer");
+        self.out
+            .keyword(1, "loop", "a loop back to an earlier step");
     }
 
     fn step_items(&mut self) {
@@ -1659,7 +1760,8 @@ impl<'a> Completer<'a> {
         }
         self.out.keyword(2, "min", "minimum step run time");
         self.out.keyword(2, "max", "maximum step run time");
-        self.out.keyword(2, "confirm", "the operator confirms the step");
+        self.out
+            .keyword(2, "confirm", "the operator confirms the step");
     }
 
     /// An operand of a chart expression: the chart's variables and (for a chart that is not a
@@ -1672,7 +1774,10 @@ impl<'a> Completer<'a> {
             let mut seen = HashSet::new();
             let mut vars = Vec::new();
             for section in chart.var_sections() {
-                let Some(kind) = section.keyword().and_then(|k| Section::from_keyword(k.text())) else {
+                let Some(kind) = section
+                    .keyword()
+                    .and_then(|k| Section::from_keyword(k.text()))
+                else {
                     continue;
                 };
                 for decl in section.decls() {
@@ -1727,7 +1832,9 @@ impl<'a> Completer<'a> {
 
     /// The salsa item of a top-level node of the file.
     fn item_loc(&self, node: &SyntaxNode) -> Option<ItemLoc<'a>> {
-        let item = node.ancestors().find(|n| n.parent().is_some_and(|p| p.kind() == SOURCE_FILE))?;
+        let item = node
+            .ancestors()
+            .find(|n| n.parent().is_some_and(|p| p.kind() == SOURCE_FILE))?;
         let index = item_nodes(&self.root).position(|n| n == item)?;
         Some(ItemLoc::new(self.db, self.file, u32::try_from(index).ok()?))
     }
@@ -1752,7 +1859,11 @@ fn var_detail(var: &InterfaceVar) -> String {
 
 /// `E 0.0 BOOL` — the address as written and the type.
 fn symbol_detail(symbol: &index::Symbol) -> String {
-    let address = symbol.address_text.split_whitespace().collect::<Vec<_>>().join(" ");
+    let address = symbol
+        .address_text
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
     match symbol.ty {
         Some(ty) => format!("{address} {ty}"),
         None => address,
@@ -1855,7 +1966,9 @@ graph Ventil_2E "valve" <
 "#;
 
     fn valve(tail: &str) -> String {
-        format!("//- main.higraph\n{VALVE}{tail}\n>\n//- symbols.higraph\nsymbols <\n  Bohrer_Oben : E 0.0 BOOL \"drill at top\";\n  \"Not Aus\" : E 0.1;\n  Laufzeit : MD 4 TIME;\n  Oben : E 0.2;\n  GG_Bohr : FC 1;\n>\n")
+        format!(
+            "//- main.higraph\n{VALVE}{tail}\n>\n//- symbols.higraph\nsymbols <\n  Bohrer_Oben : E 0.0 BOOL \"drill at top\";\n  \"Not Aus\" : E 0.1;\n  Laufzeit : MD 4 TIME;\n  Oben : E 0.2;\n  GG_Bohr : FC 1;\n>\n"
+        )
     }
 
     #[test]
@@ -1932,9 +2045,18 @@ Opcode XOD · exclusive OR double word (32 bit)
         let after_label = complete(&valve("  state 5 < C: $0 >"));
         let after_stmt = complete(&valve("  state 5 < C: U Oben; $0 >"));
         for items in [&after_label, &after_stmt] {
-            assert_eq!(labels(items, CompletionKind::Label), ["E:", "C-:", "C:", "X:"]);
-            assert_eq!(labels(items, CompletionKind::Keyword), ["wait", "supervise"]);
-            assert_eq!(labels(items, CompletionKind::Opcode).len(), super::OPERATIONS.len());
+            assert_eq!(
+                labels(items, CompletionKind::Label),
+                ["E:", "C-:", "C:", "X:"]
+            );
+            assert_eq!(
+                labels(items, CompletionKind::Keyword),
+                ["wait", "supervise"]
+            );
+            assert_eq!(
+                labels(items, CompletionKind::Opcode).len(),
+                super::OPERATIONS.len()
+            );
             assert_eq!(items[0].kind, CompletionKind::Label);
         }
     }
@@ -1954,7 +2076,12 @@ Opcode XN · exclusive OR NOT with a bit
 Opcode U( · AND with nesting: open a bracket
 Opcode UN( · AND NOT with nesting: open a bracket
 "#);
-        insta::assert_snapshot!(check(&valve("  trans 0->1 < U Oben; $0 >")).lines().filter(|l| l.starts_with("Label")).collect::<Vec<_>>().join("\n"), @r#"
+        let rendered = render(&items);
+        let label_lines: Vec<&str> = rendered
+            .lines()
+            .filter(|l| l.starts_with("Label"))
+            .collect();
+        insta::assert_snapshot!(label_lines.join("\n"), @r#"
 Label ?: · conditions: the transition fires when they give 1 ⇒ ?: 
 Label !: · transition actions: once when the transition fires ⇒ !:
 "#);
@@ -2027,7 +2154,10 @@ Opcode PUSH · push: copy ACCU 1 into ACCU 2
                 valve(&format!("  trans 0->1 < A Oben; {word}$0 >"))
             )
         };
-        assert_eq!(labels(&complete(&text("CU")), CompletionKind::Opcode), ["CU"]);
+        assert_eq!(
+            labels(&complete(&text("CU")), CompletionKind::Opcode),
+            ["CU"]
+        );
         assert!(complete(&text("ZV")).is_empty());
     }
 
@@ -2105,7 +2235,11 @@ Symbol "Oben" · E 0.2 BOOL
 Symbol "Laufzeit" · MD 4 TIME
 "#);
         let f = fixture::load(&valve("  state 5 < C: U \"No$0"));
-        let items = f.host.analysis().completions(&f.position).unwrap_or_default();
+        let items = f
+            .host
+            .analysis()
+            .completions(&f.position)
+            .unwrap_or_default();
         assert_eq!(render(&items), "Symbol \"Not Aus\" · E 0.1 BOOL");
         assert_eq!(f.slice("main.higraph", items[0].replace_range), "\"No");
     }
@@ -2321,7 +2455,10 @@ Message IM_Start · BOOL msg in of Bohren
         let text = format!(
             "{GROUP}group G <\n  instance Vorschub : Ventil_2E < >\n  instance B : Bohren <\n    OM_Senken := Vorschub.$0\n  >\n>\n"
         );
-        assert_eq!(render(&complete(&text)), "Message IM_Ab · BOOL msg in of Ventil_2E");
+        assert_eq!(
+            render(&complete(&text)),
+            "Message IM_Ab · BOOL msg in of Ventil_2E"
+        );
     }
 
     #[test]
@@ -2423,7 +2560,10 @@ Keyword max · maximum step run time
 Keyword confirm · the operator confirms the step
 "#);
         let branch = complete(&chart("    parallel < $0 >"));
-        assert_eq!(render(&branch), "Keyword branch · a branch of the parallel or alternative");
+        assert_eq!(
+            render(&branch),
+            "Keyword branch · a branch of the parallel or alternative"
+        );
         let element = complete(&chart("    alt < branch < $0 > >"));
         assert_eq!(element[0].label, "step");
     }
@@ -2462,6 +2602,12 @@ Keyword and · logical AND
 Keyword or · logical OR
 Keyword xor · exclusive OR
 "#);
+        // `>` with nothing after it on the line closes the body for the parser; completion
+        // still treats it as a comparison being typed.
+        let compare = complete(&chart("    trans T3 < Fuellstand > $0\n    >"));
+        assert_eq!(compare[0].label, "Fuellstand");
+        let closed = complete(&chart("    trans T3 < Start; > $0"));
+        assert_eq!(closed[0].label, "step");
         let assignment = complete(&chart("    step X < run < Heizung := $0 > >"));
         assert!(labels(&assignment, CompletionKind::Keyword).contains(&"not".to_owned()));
         let target = complete(&chart("    step X < run < $0 > >"));
@@ -2476,7 +2622,9 @@ Keyword xor · exclusive OR
 
     #[test]
     fn chart_types_use_only_their_interface() {
-        let items = complete("//- s.higraph\nsymbols < Freigabe : E 1.0; >\n//- c.higraph\nchart type T < in < A : BOOL; > sequencer S < start < $0 > > >");
+        let items = complete(
+            "//- s.higraph\nsymbols < Freigabe : E 1.0; >\n//- c.higraph\nchart type T < in < A : BOOL; > sequencer S < start < $0 > > >",
+        );
         assert_eq!(render(&items[..1]), "Variable A · in BOOL");
         assert!(labels(&items, CompletionKind::Symbol).is_empty());
     }
@@ -2484,7 +2632,10 @@ Keyword xor · exclusive OR
     #[test]
     fn block_interface_sections() {
         let items = complete("block FC 1 <\n  $0\n>");
-        assert_eq!(labels(&items, CompletionKind::Keyword), ["in", "out", "in_out", "stat"]);
+        assert_eq!(
+            labels(&items, CompletionKind::Keyword),
+            ["in", "out", "in_out", "stat"]
+        );
     }
 
     /// Every feature of this module family at every offset of real files, and of every prefix
@@ -2492,10 +2643,22 @@ Keyword xor · exclusive OR
     #[test]
     fn never_panics_while_typing() {
         let files = [
-            ("bohrmaschine.higraph", include_str!("../../../../examples/drilling/bohrmaschine.higraph")),
-            ("ventil_2e.higraph", include_str!("../../../../examples/drilling/graphs/ventil_2e.higraph")),
-            ("symbols.higraph", include_str!("../../../../examples/drilling/symbols.higraph")),
-            ("mixer.higraph", include_str!("../../../../examples/mixer/mixer.higraph")),
+            (
+                "bohrmaschine.higraph",
+                include_str!("../../../../examples/drilling/bohrmaschine.higraph"),
+            ),
+            (
+                "ventil_2e.higraph",
+                include_str!("../../../../examples/drilling/graphs/ventil_2e.higraph"),
+            ),
+            (
+                "symbols.higraph",
+                include_str!("../../../../examples/drilling/symbols.higraph"),
+            ),
+            (
+                "mixer.higraph",
+                include_str!("../../../../examples/mixer/mixer.higraph"),
+            ),
         ];
         let mut host = crate::AnalysisHost::new();
         host.load(crate::WorkspaceData {
@@ -2509,7 +2672,10 @@ Keyword xor · exclusive OR
             let analysis = host.analysis();
             for offset in (0..=len).step_by(step) {
                 let offset = higraph_syntax::TextSize::from(offset as u32);
-                let position = super::FilePosition { path: path.to_owned(), offset };
+                let position = super::FilePosition {
+                    path: path.to_owned(),
+                    offset,
+                };
                 for item in analysis.completions(&position).expect("not cancelled") {
                     assert!(usize::from(item.replace_range.end()) <= len);
                     assert!(item.replace_range.start() <= offset);
@@ -2523,13 +2689,18 @@ Keyword xor · exclusive OR
         for (path, text) in files {
             check_all(&host, path, text.len(), 1);
             for cut in (0..text.len()).step_by(41) {
-                let Some(prefix) = text.get(..cut) else { continue };
+                let Some(prefix) = text.get(..cut) else {
+                    continue;
+                };
                 host.set_file_contents(path, crate::FileContents::Text(prefix.to_owned()));
                 check_all(&host, path, prefix.len(), 11);
             }
             host.set_file_contents(path, crate::FileContents::Text(text.to_owned()));
         }
-        let _ = host.analysis().workspace_symbols("a").expect("not cancelled");
+        let _ = host
+            .analysis()
+            .workspace_symbols("a")
+            .expect("not cancelled");
     }
 
     #[test]

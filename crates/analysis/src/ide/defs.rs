@@ -44,7 +44,9 @@ use super::SymbolKind;
 /// A top-level item: its file and its position among the file's items.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ItemId {
+    /// The file that holds the item.
     pub file: File,
+    /// The item's position among the file's items (as in [`ItemLoc`]).
     pub index: u32,
 }
 
@@ -947,7 +949,9 @@ pub(crate) fn uses_at(
     let Some((item, start)) = item_of(db, file, &token) else {
         return Vec::new();
     };
-    let relative = offset - start;
+    let Some(relative) = offset.checked_sub(start) else {
+        return Vec::new();
+    };
     item_uses(db, ws, item.loc(db))
         .uses
         .iter()
@@ -1363,8 +1367,8 @@ pub(crate) fn item_kind(db: &dyn salsa::Database, item: ItemId) -> Option<ItemKi
         .map(|s| s.kind)
 }
 
-/// The name of a graph item as declared.
-fn graph_name(db: &dyn salsa::Database, graph: ItemId) -> Option<String> {
+/// The name of a graph, group or chart item as declared.
+fn item_name(db: &dyn salsa::Database, graph: ItemId) -> Option<String> {
     db::file_summary(db, graph.file)
         .items
         .get(graph.index as usize)
@@ -1408,7 +1412,7 @@ pub fn references(
     let groups = || items_of_kind(db, ws, &[ItemKind::Group]);
     match definition {
         Definition::Graph(graph) => {
-            let bound = graph_name(db, *graph)
+            let bound = item_name(db, *graph)
                 .and_then(|name| index.graph(&name))
                 .is_some_and(|g| g.file == graph.file && g.item == graph.index);
             if bound {
@@ -1518,7 +1522,7 @@ pub fn references(
 pub fn definition_name(db: &dyn salsa::Database, ws: Workspace, definition: &Definition) -> String {
     match definition {
         Definition::Graph(item) | Definition::Group(item) | Definition::Chart(item) => {
-            graph_name(db, *item).unwrap_or_default()
+            item_name(db, *item).unwrap_or_default()
         }
         Definition::BlockInterface(_) => declaration(db, ws, definition)
             .map(|d| d.name)

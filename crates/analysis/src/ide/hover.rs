@@ -105,13 +105,16 @@ fn collapsed(node: &SyntaxNode) -> String {
     out
 }
 
-/// The text of a node from its start up to (not including) its `BODY`, collapsed: the header
-/// of a graph, state, instance, step, ...
+/// The text of a node from its start up to (not including) its `<`, collapsed: the header of
+/// a graph, state, instance, step, block interface, ...
 fn header(node: &SyntaxNode) -> String {
     let mut out = String::new();
     let mut space = false;
     for element in node.children_with_tokens() {
-        if element.kind() == SyntaxKind::BODY {
+        if matches!(
+            element.kind(),
+            SyntaxKind::BODY | SyntaxKind::L_ANGLE | SyntaxKind::VAR_SECTION
+        ) {
             break;
         }
         let text = match &element {
@@ -1126,6 +1129,67 @@ group Anlage fc FC 1 db DB 1 < instance V1 : Ventil "first" < Oben := Start; > >
 
         graph group · 1 instance
         ");
+    }
+
+    #[test]
+    fn charts_and_block_interfaces() {
+        let text = r#"
+chart Mischer "batch mixer" <
+  sequencer RUN < start < TRUE; > step START "fill" < > trans T1 < TRUE; > step ENDE < >
+    loop L1 -> START < TRUE; > >
+>
+block FC 10 "Dosieren" < in < Menge : INT; > out < Fertig : BOOL; > >
+graph G < state 0 < C: CALL FC 10 (Menge := MW 2, Fertig := M 0.0); > trans any->0 < U INIT_SD; > >
+"#;
+        let at = |needle: &str| check(&text.replacen(needle, &format!("$0{needle}"), 1));
+        insta::assert_snapshot!(
+            [at("Mischer"), at("RUN"), at("START <"), at("L1"), at("FC 10 (")].join("\n---\n"),
+            @r#"
+        [Mischer]
+        ```higraph
+        chart Mischer "batch mixer"
+        ```
+
+        chart · 1 sequencer
+
+        batch mixer
+        ---
+        [RUN]
+        ```higraph
+        sequencer RUN
+        ```
+
+        sequencer of chart `Mischer`
+        ---
+        [START]
+        ```higraph
+        step START "fill"
+        ```
+
+        step of sequencer `RUN`
+
+        fill
+        ---
+        [L1]
+        ```higraph
+        loop L1 -> START
+        ```
+
+        loop of sequencer `RUN`
+        ---
+        [FC 10]
+        ```higraph
+        block FC 10 "Dosieren"
+        ```
+
+        interface of an external block
+
+        `in` Menge : INT  
+        `out` Fertig : BOOL
+
+        Dosieren
+        "#
+        );
     }
 
     #[test]

@@ -39,7 +39,9 @@ use crate::{
 pub struct InlayHint {
     /// Where the hint stands (it is shown before the character at this offset).
     pub offset: TextSize,
+    /// The text shown (without padding).
     pub label: String,
+    /// What the hint shows.
     pub kind: InlayKind,
 }
 
@@ -109,12 +111,24 @@ fn touches(a: TextRange, b: TextRange) -> bool {
     a.start() <= b.end() && b.start() <= a.end()
 }
 
-/// The members of a graph body that touch `range`.
-fn members_in(body: Option<ast::Body>, range: TextRange) -> impl Iterator<Item = SyntaxNode> {
-    body.into_iter()
-        .flat_map(|b| b.syntax().children())
-        .skip_while(move |n| n.text_range().end() < range.start())
-        .take_while(move |n| n.text_range().start() <= range.end())
+/// The members of a graph or group body that touch `range`. The first one is found by binary
+/// search, so a small range in a large graph costs little.
+fn members_in(body: Option<ast::Body>, range: TextRange) -> Vec<SyntaxNode> {
+    let Some(body) = body else {
+        return Vec::new();
+    };
+    let node = body.syntax();
+    let Some(visible) = range.intersect(node.text_range()) else {
+        return Vec::new();
+    };
+    let first = node
+        .child_or_token_at_range(TextRange::empty(visible.start()))
+        .or_else(|| node.first_child_or_token());
+    std::iter::successors(first, |e| e.next_sibling_or_token())
+        .filter_map(|e| e.into_node())
+        .skip_while(|n| n.text_range().end() < range.start())
+        .take_while(|n| n.text_range().start() <= range.end())
+        .collect()
 }
 
 // ------------------------------------------------------------------------------ state names
@@ -194,15 +208,17 @@ struct GroupCx<'a> {
     mnemonic: Mnemonic,
 }
 
-fn formal_type_hints(cx: &GroupCx<'_>, group: &ast::Group, range: TextRange, out: &mut Vec<InlayHint>) {
+fn formal_type_hints(
+    cx: &GroupCx<'_>,
+    group: &ast::Group,
+    range: TextRange,
+    out: &mut Vec<InlayHint>,
+) {
     for node in members_in(group.body(), range) {
         let Some(instance) = ast::Instance::cast(node) else {
             continue;
         };
-        let Some(graph) = instance
-            .graph()
-            .and_then(|g| cx.index.graph(&g.text()))
-        else {
+        let Some(graph) = instance.graph().and_then(|g| cx.index.graph(&g.text())) else {
             continue;
         };
         let interface = graph_interface(cx.db, ItemLoc::new(cx.db, graph.file, graph.item));
@@ -221,7 +237,9 @@ fn formal_type_hints(cx: &GroupCx<'_>, group: &ast::Group, range: TextRange, out
                     .then_some(Type::Bool),
             };
             let Some(formal_ty) = formal_ty else { continue };
-            let Some(value) = actual.value() else { continue };
+            let Some(value) = actual.value() else {
+                continue;
+            };
             let Some(value_ty) = value_type(cx, &value) else {
                 continue;
             };
@@ -327,7 +345,10 @@ StateNames: trans 1->9⟨Oben → 9⟩ < >
 
     #[test]
     fn graphs_without_state_names_have_no_hints() {
-        assert_eq!(check("$0graph G < state 0 < > state 1 < > trans 0->1 < > >"), "");
+        assert_eq!(
+            check("$0graph G < state 0 < > state 1 < > trans 0->1 < > >"),
+            ""
+        );
     }
 
     #[test]
@@ -403,8 +424,14 @@ FormalType: AutomaticMode := MB 2⟨: BOOL⟩;
     fn no_hints_for_unknown_files_or_empty_ranges() {
         let f = fixture::load("$0graph G < state 0 \"A\" < > trans 0->0 < > >");
         let analysis = f.host.analysis();
-        assert_eq!(analysis.inlay_hints("nope.higraph", None).ok(), Some(Vec::new()));
+        assert_eq!(
+            analysis.inlay_hints("nope.higraph", None).ok(),
+            Some(Vec::new())
+        );
         let empty = TextRange::empty(0.into());
-        assert_eq!(analysis.inlay_hints("main.higraph", Some(empty)).ok(), Some(Vec::new()));
+        assert_eq!(
+            analysis.inlay_hints("main.higraph", Some(empty)).ok(),
+            Some(Vec::new())
+        );
     }
 }

@@ -50,11 +50,13 @@ pub struct DocumentSymbol {
     pub name: String,
     /// Shown beside the name: a type, a graph, a comment, the states of a transition.
     pub detail: Option<String>,
+    /// What it is (for the icon).
     pub kind: SymbolKind,
     /// The whole construct.
     pub full_range: TextRange,
     /// What to select: the name (inside `full_range`).
     pub selection_range: TextRange,
+    /// The members, in text order.
     pub children: Vec<DocumentSymbol>,
 }
 
@@ -235,9 +237,9 @@ fn section_outline(section: &ast::VarSection) -> DocumentSymbol {
                 " msg out"
             });
         }
-        symbol.children.push(
-            DocumentSymbol::new(name, kind, decl.syntax(), focus).detail(Some(detail)),
-        );
+        symbol
+            .children
+            .push(DocumentSymbol::new(name, kind, decl.syntax(), focus).detail(Some(detail)));
     }
     symbol
 }
@@ -356,7 +358,12 @@ fn seq_elements(elements: impl Iterator<Item = ast::SeqElement>, out: &mut Vec<D
                 );
             }
             ast::SeqElement::Jump(jump) => {
-                out.push(jump_outline(jump.syntax(), jump.name(), jump.target(), "jump"));
+                out.push(jump_outline(
+                    jump.syntax(),
+                    jump.name(),
+                    jump.target(),
+                    "jump",
+                ));
             }
             ast::SeqElement::Loop(looping) => {
                 out.push(jump_outline(
@@ -429,13 +436,9 @@ fn interface_outline(interface: &ast::BlockInterface) -> DocumentSymbol {
     let focus = block.map_or(keyword_range(interface.syntax()), |b| {
         b.syntax().text_range()
     });
-    let mut symbol = DocumentSymbol::new(
-        name,
-        SymbolKind::BlockInterface,
-        interface.syntax(),
-        focus,
-    )
-    .detail(interface.comment().map(|c| c.value()));
+    let mut symbol =
+        DocumentSymbol::new(name, SymbolKind::BlockInterface, interface.syntax(), focus)
+            .detail(interface.comment().map(|c| c.value()));
     for section in interface.var_sections() {
         symbol.children.push(section_outline(&section));
     }
@@ -456,7 +459,11 @@ struct Candidate {
     own: String,
 }
 
-fn workspace_symbols(db: &dyn salsa::Database, ws: Workspace, query: &str) -> Vec<NavigationTarget> {
+fn workspace_symbols(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    query: &str,
+) -> Vec<NavigationTarget> {
     let query = query.trim().to_ascii_lowercase();
     let mut ranked: Vec<(Rank, Candidate)> = Vec::new();
     let mut consider = |candidate: Candidate| {
@@ -498,7 +505,12 @@ fn workspace_symbols(db: &dyn salsa::Database, ws: Workspace, query: &str) -> Ve
             .then_with(|| x.target.name.len().cmp(&y.target.name.len()))
             .then_with(|| x.target.name.cmp(&y.target.name))
             .then_with(|| x.target.path.cmp(&y.target.path))
-            .then_with(|| x.target.full_range.start().cmp(&y.target.full_range.start()))
+            .then_with(|| {
+                x.target
+                    .full_range
+                    .start()
+                    .cmp(&y.target.full_range.start())
+            })
     });
     ranked.truncate(WORKSPACE_SYMBOL_LIMIT);
     ranked.into_iter().map(|(_, c)| c.target).collect()
@@ -638,7 +650,13 @@ mod tests {
         out
     }
 
-    fn render(f: &fixture::Fixture, path: &str, symbol: &DocumentSymbol, depth: usize, out: &mut String) {
+    fn render(
+        f: &fixture::Fixture,
+        path: &str,
+        symbol: &DocumentSymbol,
+        depth: usize,
+        out: &mut String,
+    ) {
         assert!(symbol.full_range.contains_range(symbol.selection_range));
         let detail = symbol
             .detail
@@ -840,20 +858,24 @@ Instance Bohrmaschine.Spanner (group.higraph: Spanner)
 
     #[test]
     fn workspace_symbols_include_imported_symbols() {
-        let text = "//- higraph.toml\n[workspace]\nsymbols = [\"plc.sdf\"]\n//- a.higraph\n$0graph Anlage < >\n";
-        let mut f = fixture::load(text);
-        let mut data = crate::WorkspaceData::default();
-        data.config = Some(("higraph.toml".to_owned(), "[workspace]\nsymbols = [\"plc.sdf\"]\n".to_owned()));
-        data.files.push((
-            "a.higraph".to_owned(),
-            crate::FileContents::Text("graph Anlage < >\n".to_owned()),
-        ));
-        data.imports.insert(
-            "plc.sdf".to_owned(),
-            Ok(b"\"Anlage_Ein\",\"E       1.0\",\"BOOL\",\"on\"\r\n".to_vec()),
-        );
-        f.host.load(data);
-        let targets = f.host.analysis().workspace_symbols("anlage").expect("not cancelled");
+        let sdf = b"\"Anlage_Ein\",\"E       1.0\",\"BOOL\",\"on\"\r\n".to_vec();
+        let data = crate::WorkspaceData {
+            files: vec![(
+                "a.higraph".to_owned(),
+                crate::FileContents::Text("graph Anlage < >\n".to_owned()),
+            )],
+            config: Some((
+                "higraph.toml".to_owned(),
+                "[workspace]\nsymbols = [\"plc.sdf\"]\n".to_owned(),
+            )),
+            imports: [("plc.sdf".to_owned(), Ok(sdf))].into_iter().collect(),
+        };
+        let mut host = crate::AnalysisHost::new();
+        host.load(data);
+        let targets = host
+            .analysis()
+            .workspace_symbols("anlage")
+            .expect("not cancelled");
         let found: Vec<(String, String)> = targets.into_iter().map(|t| (t.name, t.path)).collect();
         assert_eq!(
             found,
@@ -872,10 +894,18 @@ Instance Bohrmaschine.Spanner (group.higraph: Spanner)
         }
         text.push_str(">\n");
         let f = fixture::load(&text);
-        let all = f.host.analysis().workspace_symbols("").expect("not cancelled");
+        let all = f
+            .host
+            .analysis()
+            .workspace_symbols("")
+            .expect("not cancelled");
         assert_eq!(all.len(), super::WORKSPACE_SYMBOL_LIMIT);
         assert_eq!(all[0].name, "G");
-        let some = f.host.analysis().workspace_symbols("s39").expect("not cancelled");
+        let some = f
+            .host
+            .analysis()
+            .workspace_symbols("s39")
+            .expect("not cancelled");
         assert_eq!(some[0].name, "G.39 \"S39\"");
     }
 

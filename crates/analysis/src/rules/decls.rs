@@ -18,7 +18,6 @@ use higraph_syntax::{
 
 use super::{Ctx, edit, has_error};
 use crate::{
-    closest::closest,
     index,
     lang::{Section, Type},
 };
@@ -171,18 +170,12 @@ fn checked_type(
             if interface {
                 candidates.extend_from_slice(INTERFACE_TYPES);
             }
-            let mut diag = ctx.diag(
+            let diag = ctx.diag(
                 "HG1215",
                 name.text_range(),
                 format!("unknown data type '{}'", name.text()),
             );
-            if let Some(best) = closest(name.text(), candidates) {
-                diag = diag.fix(
-                    format!("Replace with '{best}'"),
-                    ctx.loc(name.text_range()),
-                    best,
-                );
-            }
+            let diag = ctx.with_closest_fix(diag, name.text_range(), name.text(), candidates);
             ctx.push(diag);
         }
         return None;

@@ -22,9 +22,9 @@ use higraph_syntax::ast;
 
 use super::edit;
 // Re-exported for the formatter; `rules/mod.rs` has to make `graph` visible to it.
+use self::model::GraphModel;
 #[allow(unused_imports)]
 pub use self::model::effective_priorities;
-use self::model::GraphModel;
 use super::Ctx;
 
 /// Runs every graph rule of this module on one graph.

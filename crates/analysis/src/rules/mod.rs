@@ -65,6 +65,21 @@ impl Ctx<'_> {
         self.out.diags.push(diag);
     }
 
+    /// `diag` with the fix "Replace with 'best'" at `range`, where `best` is the candidate
+    /// closest to `written` ([`closest`](crate::closest::closest)); unchanged if none is close.
+    pub fn with_closest_fix<'c>(
+        &self,
+        diag: Diag,
+        range: TextRange,
+        written: &str,
+        candidates: impl IntoIterator<Item = &'c str>,
+    ) -> Diag {
+        match crate::closest::closest(written, candidates) {
+            Some(best) => diag.fix(format!("Replace with '{best}'"), self.loc(range), best),
+            None => diag,
+        }
+    }
+
     /// Records a use of a global symbol (HG6004).
     pub fn use_symbol(&mut self, name: &str) {
         self.out.used_symbols.insert(crate::index::key(name));

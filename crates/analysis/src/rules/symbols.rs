@@ -236,6 +236,19 @@ pub(crate) fn node_text(node: &SyntaxNode) -> String {
     node.text().to_string().trim().to_owned()
 }
 
+/// HG1104 for a block reference (a name or a quoted name) that names the symbol `declared` in
+/// another case.
+pub(crate) fn check_block_ref_case(ctx: &mut Ctx<'_>, reference: &ast::BlockRef, declared: &str) {
+    if let Some(token) = reference
+        .name_ref()
+        .and_then(|n| n.token())
+        .or_else(|| reference.symbol_ref().and_then(|s| s.token()))
+    {
+        let used = ast::unquote(token.text()).to_owned();
+        check_case(ctx, &token, &used, declared);
+    }
+}
+
 /// HG1104 for a reference spelled in another case than its declaration.
 pub(crate) fn check_case(
     ctx: &mut Ctx<'_>,

@@ -90,6 +90,7 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
                 save: Some(lsp::TextDocumentSyncSaveOptions::Supported(true)),
             },
         )),
+        hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
         completion_provider: Some(lsp::CompletionOptions {
             // `Inst.` (messages of the instance's graph) and `#` (variables).
             trigger_characters: Some(vec![".".into(), "#".into()]),

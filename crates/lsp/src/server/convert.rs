@@ -3,8 +3,9 @@
 //! The only module that knows both sides (`diagnostics.md` §1.5).
 
 use higraph_analysis::ide::{
-    CompletionItem, CompletionKind, DocumentSymbol, Edit, Fold, FoldKind, HighlightKind, InlayHint,
-    InlayKind, NavigationTarget, SemanticToken, SymbolKind, TOKEN_KINDS, TOKEN_MODIFIERS,
+    CompletionItem, CompletionKind, DocumentSymbol, Edit, Fold, FoldKind, HighlightKind, Hover,
+    InlayHint, InlayKind, NavigationTarget, SemanticToken, SymbolKind, TOKEN_KINDS,
+    TOKEN_MODIFIERS,
 };
 use higraph_analysis::{
     DiagnosticTag, LineIndex, Position, PositionEncoding, Severity, TextRange, TextSize,
@@ -121,6 +122,17 @@ pub(crate) fn text_edit(
     encoding: PositionEncoding,
 ) -> lsp::TextEdit {
     lsp::TextEdit::new(range(index, edit.range, encoding), edit.new_text.clone())
+}
+
+/// An LSP hover with markdown contents.
+pub(crate) fn hover(hover: &Hover, index: &LineIndex, encoding: PositionEncoding) -> lsp::Hover {
+    lsp::Hover {
+        contents: lsp::HoverContents::Markup(lsp::MarkupContent {
+            kind: lsp::MarkupKind::Markdown,
+            value: hover.markdown.clone(),
+        }),
+        range: Some(range(index, hover.range, encoding)),
+    }
 }
 
 /// The LSP symbol kind of an analysis symbol kind.

@@ -61,7 +61,7 @@ pub(crate) fn publishable_diagnostics(
             let index = indexes.get(i)?;
             let mut converted: Vec<lsp::Diagnostic> = diagnostics
                 .iter()
-                .map(|diagnostic| convert::diagnostic(diagnostic, index, encoding, &location))
+                .map(|diagnostic| convert::diagnostic(diagnostic, index, encoding, location))
                 .collect();
             converted.sort_by(|a, b| {
                 let key = |d: &lsp::Diagnostic| {
@@ -146,6 +146,19 @@ pub(crate) fn completion(
         .filter_map(|item| convert::completion_item(item, &index, snapshot.encoding, snippets))
         .collect();
     Ok(Some(lsp::CompletionResponse::Array(items)))
+}
+
+/// `textDocument/hover`: markdown.
+pub(crate) fn hover(
+    snapshot: &Snapshot,
+    params: lsp::HoverParams,
+) -> HandlerResult<Option<lsp::Hover>> {
+    let Some((position, index)) = file_position(snapshot, &params.text_document_position_params)
+    else {
+        return Ok(None);
+    };
+    let hover = snapshot.analysis.hover(&position)?;
+    Ok(hover.map(|hover| convert::hover(&hover, &index, snapshot.encoding)))
 }
 
 /// `textDocument/definition`.

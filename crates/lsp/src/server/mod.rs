@@ -95,6 +95,9 @@ async fn talk_to_client(client: Client, mut outbox: mpsc::UnboundedReceiver<ToCl
                 version,
             } => client.publish_diagnostics(uri, diagnostics, version).await,
             ToClient::Log { kind, message } => client.log_message(kind, message).await,
+            ToClient::Barrier(done) => {
+                let _ = done.send(());
+            }
         }
     }
 }
@@ -264,7 +267,8 @@ impl LanguageServer for Backend {
                         ongoing.report_with_message(message, percentage).await;
                     }
                 }
-                IndexProgress::Done { message } => {
+                IndexProgress::Done { message, published } => {
+                    let _ = published.await;
                     if let Some(ongoing) = report.take() {
                         ongoing.finish_with_message(message).await;
                     }
@@ -321,6 +325,10 @@ impl LanguageServer for Backend {
     async fn did_change_configuration(&self, _: DidChangeConfigurationParams) {
         // The server has no client-side settings; `higraph.toml` may have changed meanwhile.
         self.world.send(Task::Reload);
+    }
+
+    async fn hover(&self, params: lsp::HoverParams) -> jsonrpc::Result<Option<lsp::Hover>> {
+        self.answer("hover", params, handlers::hover).await
     }
 
     async fn completion(

@@ -74,12 +74,16 @@ pub(crate) enum Task {
 }
 
 /// How indexing at start goes, for `$/progress`.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug)]
 pub(crate) enum IndexProgress {
     /// A step, with the percentage done.
     Report { message: String, percentage: u32 },
-    /// Indexing is over: the first diagnostics are published.
-    Done { message: String },
+    /// Indexing is over. `published` resolves once the first diagnostics have gone to the
+    /// client, so the end of the progress follows them.
+    Done {
+        message: String,
+        published: oneshot::Receiver<()>,
+    },
 }
 
 /// What the world sends to the client (through the async side, which owns the connection).
@@ -93,6 +97,8 @@ pub(crate) enum ToClient {
     },
     /// `window/logMessage`.
     Log { kind: MessageType, message: String },
+    /// Everything before has been sent: resolve the sender.
+    Barrier(oneshot::Sender<()>),
 }
 
 /// A cheap handle that sends tasks to the world.
@@ -527,13 +533,7 @@ impl World {
         let mut current: HashSet<String> = HashSet::new();
         for (name, diagnostics) in files {
             current.insert(name.clone());
-            let unchanged = match self.published.get(&name) {
-                Some((_, published)) => *published == diagnostics,
-                None => diagnostics.is_empty(),
-            };
-            if unchanged {
-                continue;
-            }
+            // An open document's diagnostics go to the URI the client named it by.
             let uri = match self.documents.get(&name) {
                 Some(document) => Some(document.uri.clone()),
                 None => self.paths.uri(&name),
@@ -541,6 +541,24 @@ impl World {
             let Some(uri) = uri else {
                 continue;
             };
+            let previous = self.published.get(&name);
+            let unchanged = match previous {
+                Some((published_uri, published)) => {
+                    *published_uri == uri && *published == diagnostics
+                }
+                None => diagnostics.is_empty(),
+            };
+            if unchanged {
+                continue;
+            }
+            if let Some((old_uri, _)) = previous.filter(|(old_uri, _)| *old_uri != uri) {
+                // The same file under another spelling of its URI: clear the old one.
+                let _ = self.to_client.send(ToClient::Publish {
+                    uri: old_uri.clone(),
+                    diagnostics: Vec::new(),
+                    version: None,
+                });
+            }
             let version = self.documents.get(&name).map(|d| d.version);
             let _ = self.to_client.send(ToClient::Publish {
                 uri: uri.clone(),
@@ -569,8 +587,11 @@ impl World {
             }
         }
         if let Some(progress) = self.index_progress.take() {
+            let (sent, published) = oneshot::channel();
+            let _ = self.to_client.send(ToClient::Barrier(sent));
             let _ = progress.send(IndexProgress::Done {
                 message: format!("{} indexed", count_files(self.host.paths().len())),
+                published,
             });
         }
     }

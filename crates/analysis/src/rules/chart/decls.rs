@@ -11,7 +11,13 @@ use crate::rules::{
 /// Declares the chart's variables in declaration order, reporting the declaration rules.
 pub(crate) fn declare(ctx: &mut Ctx<'_>, info: &ChartInfo) -> Vec<Var> {
     let owner = info.owner();
-    decls::check_sections(ctx, info.chart.var_sections(), Owner::Chart, &owner, |_, _, _, _| {})
+    decls::check_sections(
+        ctx,
+        info.chart.var_sections(),
+        Owner::Chart,
+        &owner,
+        |_, _, _, _| {},
+    )
 }
 
 /// HG1210 (a): a chart variable that no operand of the chart resolves to.

@@ -17,8 +17,7 @@ use higraph_syntax::{
 use super::{
     Scope, body_children, collapsed, has_error,
     operands::{self, Target, Unresolved},
-    parts,
-    times, without_semi,
+    parts, times, without_semi,
 };
 use crate::{
     lang::{Section, Type},
@@ -183,7 +182,11 @@ impl<'c, 'a> Walker<'c, 'a> {
         is_min: bool,
     ) -> Option<(i64, TextRange, String)> {
         let value = time.value()?;
-        let kind = if is_min { TimeKind::MinRunTime } else { TimeKind::MaxRunTime };
+        let kind = if is_min {
+            TimeKind::MinRunTime
+        } else {
+            TimeKind::MaxRunTime
+        };
         let report = !has_error(time.syntax());
         let item = time.syntax().text_range();
         let millis = times::check(self.ctx, self.scope, &value, kind, Some(item), report)?;
@@ -266,7 +269,14 @@ impl<'c, 'a> Walker<'c, 'a> {
             || parts::check_qualifier_time(self.ctx, action, &qualifier, &written, time.as_ref());
         if let Some(time) = &time {
             let report = report && time_ok;
-            times::check(self.ctx, self.scope, time, TimeKind::ActionTime, None, report);
+            times::check(
+                self.ctx,
+                self.scope,
+                time,
+                TimeKind::ActionTime,
+                None,
+                report,
+            );
         }
         let target = match &operand {
             ast::Operand::Path(path) => {

@@ -9,7 +9,7 @@ use higraph_syntax::{
 };
 
 use super::{ChartInfo, has_error, header_range, without_semi};
-use crate::{closest::closest, rules::Ctx};
+use crate::rules::Ctx;
 
 /// The `run` options a chart knows (HG7402).
 const RUN_OPTIONS: [&str; 3] = ["cyclic", "time_monitoring", "autostart"];
@@ -110,9 +110,7 @@ fn check_run_option(ctx: &mut Ctx<'_>, option: &str, range: TextRange) {
         range,
         format!("unknown run option '{option}'; known: cyclic, time_monitoring, autostart"),
     );
-    if let Some(best) = closest(option, RUN_OPTIONS) {
-        diag = diag.fix(format!("Replace with '{best}'"), ctx.loc(range), best);
-    }
+    diag = ctx.with_closest_fix(diag, range, option, RUN_OPTIONS);
     ctx.push(diag);
 }
 

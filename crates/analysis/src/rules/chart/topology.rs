@@ -14,7 +14,7 @@ use super::{
     body_children,
     model::{ElemId, Kind, ListId, Tree},
 };
-use crate::{closest::closest, resolve, rules::Ctx};
+use crate::{resolve, rules::Ctx};
 
 /// Checks the topology of one sequencer.
 pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, header: TextRange) {
@@ -340,9 +340,7 @@ fn report_unknown_target(ctx: &mut Ctx<'_>, tree: &Tree, id: ElemId, sequencer: 
         .steps()
         .filter_map(|s| tree.elems[s].name.as_deref())
         .collect();
-    if let Some(best) = closest(target, names) {
-        diag = diag.fix(format!("Replace with '{best}'"), ctx.loc(*range), best);
-    }
+    diag = ctx.with_closest_fix(diag, *range, target, names);
     ctx.push(diag);
 }
 

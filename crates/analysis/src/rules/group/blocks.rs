@@ -21,7 +21,8 @@ use crate::{
     rules::{
         Ctx,
         symbols::{
-            BlockTarget, check_address, check_case, node_text, resolve_block_ref, target_kind,
+            BlockTarget, check_address, check_block_ref_case, node_text, resolve_block_ref,
+            target_kind,
         },
     },
     sdf,
@@ -105,14 +106,7 @@ fn check_clause(ctx: &mut Ctx<'_>, clause: Clause, reference: &ast::BlockRef) {
     let target = resolve_block_ref(index, ctx.mnemonic, reference);
     if let BlockTarget::Symbol(symbol) = target {
         ctx.use_symbol(&symbol.name);
-        if let Some(token) = reference
-            .name_ref()
-            .and_then(|n| n.token())
-            .or_else(|| reference.symbol_ref().and_then(|s| s.token()))
-        {
-            let used = ast::unquote(token.text()).to_owned();
-            check_case(ctx, &token, &used, &symbol.name);
-        }
+        check_block_ref_case(ctx, reference, &symbol.name);
     }
     let upper = clause.upper();
     let message = match &target {

@@ -265,9 +265,7 @@ fn check_graph_name(ctx: &mut Ctx<'_>, instance: &InstanceInfo<'_>) {
         .iter()
         .filter(|i| i.kind == ItemKind::Graph)
         .map(|i| i.name.as_str());
-    if let Some(best) = closest(&written, graphs) {
-        diag = diag.fix(format!("Replace with '{best}'"), ctx.loc(range), best);
-    }
+    diag = ctx.with_closest_fix(diag, range, &written, graphs);
     ctx.push(diag);
 }
 

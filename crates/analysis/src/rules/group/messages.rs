@@ -18,7 +18,6 @@ use super::{
     interface::{GraphInterface, InterfaceVar, MsgDir},
 };
 use crate::{
-    closest::closest,
     index,
     lang::{self, Section},
     rules::{Ctx, symbols::check_case},
@@ -91,9 +90,7 @@ pub(super) fn check_target(ctx: &mut Ctx<'_>, info: &GroupInfo<'_>, target: &ast
             format!("no instance '{inst}' in group {}", info.name),
         );
         let names = info.instances.iter().map(|i| i.name.as_str());
-        if let Some(best) = closest(&inst, names) {
-            diag = diag.fix(format!("Replace with '{best}'"), ctx.loc(range), best);
-        }
+        diag = ctx.with_closest_fix(diag, range, &inst, names);
         ctx.push(diag);
         return;
     };
@@ -137,9 +134,7 @@ pub(super) fn check_target(ctx: &mut Ctx<'_>, info: &GroupInfo<'_>, target: &ast
         ),
     );
     let incoming = incoming_messages(graph).map(|v| v.name.as_str());
-    if let Some(best) = closest(&msg, incoming) {
-        diag = diag.fix(format!("Replace with '{best}'"), ctx.loc(range), best);
-    }
+    diag = ctx.with_closest_fix(diag, range, &msg, incoming);
     ctx.push(diag);
 }
 

@@ -9,7 +9,7 @@ use higraph_syntax::{
     ast::{self, AstNode},
 };
 
-use crate::{closest::closest, rules::Ctx};
+use crate::rules::Ctx;
 
 /// The known options, in the order of §3.8.
 const KNOWN_OPTIONS: [&str; 6] = [
@@ -120,18 +120,12 @@ pub(super) fn check(ctx: &mut Ctx<'_>, group: &ast::Group) {
 
 /// HG8007 with the closest known option as a fix.
 fn report_unknown(ctx: &mut Ctx<'_>, option: &OptionInfo) {
-    let mut diag = ctx.diag(
+    let diag = ctx.diag(
         "HG8007",
         option.name_range,
         format!("unknown option '{}'", option.name),
     );
-    if let Some(known) = closest(&option.name, KNOWN_OPTIONS) {
-        diag = diag.fix(
-            format!("Replace with '{known}'"),
-            ctx.loc(option.name_range),
-            known,
-        );
-    }
+    let diag = ctx.with_closest_fix(diag, option.name_range, &option.name, KNOWN_OPTIONS);
     ctx.push(diag);
 }
 

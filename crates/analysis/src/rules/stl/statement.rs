@@ -18,7 +18,6 @@ use super::{
 };
 use crate::{
     address::Area,
-    closest,
     lang::{self, Mnemonic, OpClass, OutsideKind, Type},
     resolve::{self, GraphScope, Resolved, Role, Target, Usage},
     rules::has_error,
@@ -223,9 +222,7 @@ fn outside_subset(ctx: &mut Ctx<'_>, range: TextRange, written: &str, kind: Outs
 fn unknown_operation(ctx: &mut Ctx<'_>, range: TextRange, written: &str) {
     let mut diag = ctx.diag("HG4008", range, format!("unknown operation '{written}'"));
     let ops = lang::subset_ops(ctx.mnemonic);
-    if let Some(best) = closest::closest(written, ops.iter().map(String::as_str)) {
-        diag = diag.fix(format!("Replace with '{best}'"), ctx.loc(range), best);
-    }
+    diag = ctx.with_closest_fix(diag, range, written, ops.iter().map(String::as_str));
     ctx.push(diag);
 }
 

@@ -4,7 +4,9 @@
 
 use higraph_syntax::ast::{self, AstNode};
 
-use super::{BlockTarget, check_address, check_case, node_text, resolve_block_ref, target_kind};
+use super::{
+    BlockTarget, check_address, check_block_ref_case, node_text, resolve_block_ref, target_kind,
+};
 use crate::{
     address::Address,
     db::{self, File, ItemKind, ItemLoc, Workspace},
@@ -26,14 +28,8 @@ pub(super) fn check_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInterface
         return;
     }
     let target = resolve_block_ref(ctx.index, ctx.mnemonic, &reference);
-    if let BlockTarget::Symbol(symbol) = target
-        && let Some(token) = reference
-            .name_ref()
-            .and_then(|n| n.token())
-            .or_else(|| reference.symbol_ref().and_then(|s| s.token()))
-    {
-        let used = ast::unquote(token.text()).to_owned();
-        check_case(ctx, &token, &used, &symbol.name);
+    if let BlockTarget::Symbol(symbol) = target {
+        check_block_ref_case(ctx, &reference, &symbol.name);
     }
     let message = match &target {
         BlockTarget::NotASymbol => format!("'{written}' is not a global symbol"),
