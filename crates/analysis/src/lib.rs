@@ -25,6 +25,7 @@ pub mod lang;
 mod line_index;
 pub mod model;
 pub mod registry;
+pub mod render;
 mod resolve;
 pub mod rules;
 pub mod sdf;

@@ -27,24 +27,13 @@ use crate::{
     closest,
     index::{self, Symbol},
     lang::{self, Mnemonic, Predefined, Section, Type},
-    rules::{Ctx, decls},
+    rules::{
+        Ctx,
+        decls::{self, Var},
+    },
 };
 
 // ------------------------------------------------------------------------------ scope
-
-/// A variable declared in a graph (the first declaration of its name, C3).
-#[derive(Debug, Clone)]
-pub(crate) struct GraphVar {
-    /// The name as declared.
-    pub name: String,
-    pub section: Section,
-    /// The declared type; `None` if it is missing or invalid (unknown type, §2.4).
-    pub ty: Option<Type>,
-    /// The declared name token.
-    pub name_range: TextRange,
-    /// The whole declaration (for the "remove the declaration" fix).
-    pub decl_range: TextRange,
-}
 
 /// A name in the graph's `activate` list.
 #[derive(Debug, Clone)]
@@ -63,8 +52,9 @@ pub(crate) struct ActivatedName {
 pub(crate) struct GraphScope {
     /// The graph's name as declared.
     pub name: String,
-    /// Declared variables in declaration order (duplicates left out).
-    pub vars: Vec<GraphVar>,
+    /// Declared variables in declaration order: the first declaration of each name (C3), with
+    /// its type as written (not checked: a `STRING[n]` keeps any length).
+    pub vars: Vec<Var>,
     vars_by_key: HashMap<String, usize>,
     /// Every name of every `activate`, in text order.
     pub activated: Vec<ActivatedName>,
@@ -139,12 +129,13 @@ impl GraphScope {
                 continue;
             }
             self.vars_by_key.insert(key, self.vars.len());
-            self.vars.push(GraphVar {
+            self.vars.push(Var {
                 name: text,
+                name_range: token.text_range(),
                 section: kind,
                 ty: decl.ty().and_then(|t| index::declared_type(&t)),
-                name_range: token.text_range(),
                 decl_range: decl.syntax().text_range(),
+                duplicate: false,
             });
         }
     }

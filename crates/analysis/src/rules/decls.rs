@@ -49,6 +49,7 @@ impl Owner {
 const INTERFACE_TYPES: &[&str] = &["POINTER", "ANY", "BLOCK_FC", "BLOCK_FB", "BLOCK_DB"];
 
 /// A declared variable.
+#[derive(Debug, Clone)]
 pub(crate) struct Var {
     /// As declared.
     pub name: String,
@@ -278,22 +279,15 @@ fn check_initial_value(ctx: &mut Ctx<'_>, decl: &ast::VarDecl, ty: Type) {
     ctx.push(diag);
 }
 
-/// HG1210 (a): the variable `name` of `owner_text` is never used; the declaration of a `stat`
-/// variable (at `decl_range`) can be removed.
-pub(crate) fn report_unused(
-    ctx: &mut Ctx<'_>,
-    owner_text: &str,
-    name: &str,
-    name_range: TextRange,
-    section: Section,
-    decl_range: TextRange,
-) {
-    let message = format!("variable '{name}' is never used in {owner_text}");
-    let mut diag = ctx.diag("HG1210", name_range, message);
-    if section == Section::Stat {
+/// HG1210 (a): a variable of `owner_text` that is never used; the declaration of a `stat`
+/// variable can be removed.
+pub(crate) fn report_unused(ctx: &mut Ctx<'_>, owner_text: &str, var: &Var) {
+    let message = format!("variable '{}' is never used in {owner_text}", var.name);
+    let mut diag = ctx.diag("HG1210", var.name_range, message);
+    if var.section == Section::Stat {
         diag = diag.fix(
-            format!("Remove the declaration of '{name}'"),
-            ctx.loc(decl_range),
+            format!("Remove the declaration of '{}'", var.name),
+            ctx.loc(var.decl_range),
             "",
         );
     }

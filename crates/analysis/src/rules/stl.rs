@@ -269,14 +269,7 @@ fn report_unused(ctx: &mut Ctx<'_>, scope: &GraphScope) {
     let owner = scope.owner();
     for (var, used) in scope.vars.iter().zip(&scope.used_vars) {
         if !*used {
-            super::decls::report_unused(
-                ctx,
-                &owner,
-                &var.name,
-                var.name_range,
-                var.section,
-                var.decl_range,
-            );
+            super::decls::report_unused(ctx, &owner, var);
         }
     }
     let mut seen = std::collections::HashSet::new();

@@ -9,6 +9,7 @@ mod explain;
 mod fmt_command;
 mod output;
 mod parse;
+mod render;
 
 use std::fmt;
 use std::io::{self, Write};
@@ -49,6 +50,8 @@ enum Command {
     Fmt(FmtArgs),
     /// Print the documentation of a diagnostic code (what, why, example, fix).
     Explain(ExplainArgs),
+    /// Draw a graph, group or chart as SVG or Graphviz DOT.
+    Render(RenderArgs),
 }
 
 /// Arguments of `higraph-lsp lsp`.
@@ -102,6 +105,33 @@ pub(crate) struct ExplainArgs {
     /// A diagnostic code such as HG2105 (any letter case).
     #[arg(value_name = "CODE")]
     pub code: String,
+}
+
+/// Arguments of `higraph-lsp render`.
+#[derive(Debug, Args)]
+pub(crate) struct RenderArgs {
+    /// The graph, group or chart to draw (any letter case).
+    #[arg(value_name = "NAME")]
+    pub name: String,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = RenderFormat::Svg)]
+    pub format: RenderFormat,
+    /// Write to this file instead of standard output.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<std::path::PathBuf>,
+    /// A folder of the workspace (default: the current folder); the workspace is found as
+    /// `check` finds it.
+    #[arg(long, value_name = "DIR")]
+    pub dir: Option<std::path::PathBuf>,
+}
+
+/// The output formats of `render`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum RenderFormat {
+    /// a self-contained SVG picture (the default).
+    Svg,
+    /// Graphviz DOT text.
+    Dot,
 }
 
 /// Arguments of `higraph-lsp parse`.
@@ -180,6 +210,7 @@ pub fn run() -> ExitCode {
         Some(Command::Parse(args)) => parse::run(&args),
         Some(Command::Fmt(args)) => fmt_command::run(&args),
         Some(Command::Explain(args)) => explain::run(&args),
+        Some(Command::Render(args)) => render::run(&args),
         Some(Command::Lsp(_)) | None => Ok(crate::server::run()),
     };
     match result {

@@ -27,13 +27,6 @@ pub(crate) fn report_unused(ctx: &mut Ctx<'_>, scope: &Scope) {
         if var.duplicate || *used {
             continue;
         }
-        decls::report_unused(
-            ctx,
-            &owner,
-            &var.name,
-            var.name_range,
-            var.section,
-            var.decl_range,
-        );
+        decls::report_unused(ctx, &owner, var);
     }
 }

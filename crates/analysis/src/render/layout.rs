@@ -1,0 +1,778 @@
+//! Layout: places the nodes of a graph or group, routes the edges around other nodes and puts
+//! every edge label where it meets no other label and no node. Charts are laid out as columns
+//! (see [`chart`]).
+//!
+//! Everything is deterministic: the same model gives the same picture.
+
+use std::collections::{HashMap, VecDeque};
+
+use super::model::{ChartModel, Element, End, GraphModel, GroupModel};
+use super::picture::{BBox, FONT_SIZE, Picture, Shape, Text, text_width};
+
+/// Radius of a state circle.
+const STATE_RADIUS: f64 = 28.0;
+/// Vertical distance of the rows of a state graph.
+const ROW_HEIGHT: f64 = 170.0;
+/// At most this many states in one row; longer BFS layers wrap.
+const MAX_PER_ROW: usize = 6;
+/// Names longer than this are cut (with `…`) so that neighbouring names never meet.
+const MAX_NAME_CHARS: usize = 28;
+
+/// The outline of a node.
+#[derive(Debug, Clone, Copy)]
+enum Outline {
+    Circle(f64),
+    /// Width and height.
+    Rect(f64, f64),
+}
+
+/// A node edges attach to.
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    x: f64,
+    y: f64,
+    outline: Outline,
+}
+
+impl Node {
+    /// The point of the outline in the direction of (`px`, `py`).
+    fn boundary_toward(&self, px: f64, py: f64) -> (f64, f64) {
+        let (dx, dy) = (px - self.x, py - self.y);
+        let len = dx.hypot(dy);
+        if len < 1e-9 {
+            return (self.x, self.y);
+        }
+        match self.outline {
+            Outline::Circle(r) => (self.x + dx / len * r, self.y + dy / len * r),
+            Outline::Rect(w, h) => {
+                let sx = if dx.abs() > 1e-9 {
+                    (w / 2.0) / dx.abs()
+                } else {
+                    f64::INFINITY
+                };
+                let sy = if dy.abs() > 1e-9 {
+                    (h / 2.0) / dy.abs()
+                } else {
+                    f64::INFINITY
+                };
+                let s = sx.min(sy);
+                (self.x + dx * s, self.y + dy * s)
+            }
+        }
+    }
+
+    /// Whether a point lies within `margin` of the node.
+    fn near(&self, px: f64, py: f64, margin: f64) -> bool {
+        match self.outline {
+            Outline::Circle(r) => (px - self.x).hypot(py - self.y) < r + margin,
+            Outline::Rect(w, h) => {
+                (px - self.x).abs() < w / 2.0 + margin && (py - self.y).abs() < h / 2.0 + margin
+            }
+        }
+    }
+
+    fn bbox(&self) -> BBox {
+        match self.outline {
+            Outline::Circle(r) => BBox::centered(self.x, self.y, 2.0 * r, 2.0 * r),
+            Outline::Rect(w, h) => BBox::centered(self.x, self.y, w, h),
+        }
+    }
+}
+
+/// A cubic Bézier curve.
+#[derive(Debug, Clone, Copy)]
+struct Curve {
+    p0: (f64, f64),
+    p1: (f64, f64),
+    p2: (f64, f64),
+    p3: (f64, f64),
+}
+
+impl Curve {
+    fn at(&self, t: f64) -> (f64, f64) {
+        let u = 1.0 - t;
+        let (a, b, c, d) = (u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t);
+        (
+            a * self.p0.0 + b * self.p1.0 + c * self.p2.0 + d * self.p3.0,
+            a * self.p0.1 + b * self.p1.1 + c * self.p2.1 + d * self.p3.1,
+        )
+    }
+
+    fn path(&self) -> String {
+        format!(
+            "M{:.1},{:.1} C{:.1},{:.1} {:.1},{:.1} {:.1},{:.1}",
+            self.p0.0, self.p0.1, self.p1.0, self.p1.1, self.p2.0, self.p2.1, self.p3.0, self.p3.1
+        )
+    }
+}
+
+/// Collects nodes, routed edges and placed labels.
+#[derive(Default)]
+struct Router {
+    nodes: Vec<Node>,
+    /// Boxes labels must keep clear of: nodes and placed labels.
+    taken: Vec<BBox>,
+    picture: Picture,
+    /// The bends already used per unordered node pair (in the frame of the lower index).
+    bends: HashMap<(usize, usize), Vec<i32>>,
+}
+
+impl Router {
+    fn add_node(&mut self, node: Node) -> usize {
+        self.taken.push(node.bbox().inflate(2.0));
+        self.nodes.push(node);
+        self.nodes.len() - 1
+    }
+
+    /// A fixed label (state name, instance text); it is drawn and kept clear of.
+    fn fixed_label(&mut self, text: Text) {
+        self.taken.push(text.bbox());
+        self.picture.shapes.push(Shape::Text(text));
+    }
+
+    /// Routes an arrow from node `from` to node `to` and labels it.
+    fn edge(&mut self, from: usize, to: usize, label: Vec<String>, title: Option<String>) {
+        let (Some(&a), Some(&b)) = (self.nodes.get(from), self.nodes.get(to)) else {
+            return;
+        };
+        let curve = if from == to {
+            self.self_loop(from, a)
+        } else {
+            self.route(from, to, a, b)
+        };
+        self.picture.shapes.push(Shape::Path {
+            d: curve.path(),
+            arrow: true,
+            dashed: false,
+            title,
+        });
+        for p in [curve.p1, curve.p2] {
+            self.picture.extra.push(BBox::centered(p.0, p.1, 1.0, 1.0));
+        }
+        if label.iter().any(|l| !l.is_empty()) {
+            self.place_label(&curve, label);
+        }
+    }
+
+    /// A loop above a node back to itself; further loops of the same node grow.
+    fn self_loop(&mut self, index: usize, node: Node) -> Curve {
+        let used = self.bends.entry((index, index)).or_default();
+        let k = used.len() as f64;
+        used.push(used.len() as i32);
+        let r = match node.outline {
+            Outline::Circle(r) => r,
+            Outline::Rect(_, h) => h / 2.0,
+        };
+        let angle = |deg: f64| (deg.to_radians().cos(), deg.to_radians().sin());
+        let (c1, c2) = (angle(-60.0), angle(-120.0));
+        let reach = r + 45.0 + 20.0 * k;
+        Curve {
+            p0: node.boundary_toward(node.x + c1.0, node.y + c1.1),
+            p1: (node.x + c1.0 * reach * 1.6, node.y + c1.1 * reach),
+            p2: (node.x + c2.0 * reach * 1.6, node.y + c2.1 * reach),
+            p3: node.boundary_toward(node.x + c2.0, node.y + c2.1),
+        }
+    }
+
+    /// The straightest curve from `a` to `b` that passes no other node and does not lie on
+    /// an earlier edge between the same two nodes.
+    fn route(&mut self, from: usize, to: usize, a: Node, b: Node) -> Curve {
+        let (dx, dy) = (b.x - a.x, b.y - a.y);
+        let len = dx.hypot(dy).max(1e-9);
+        let normal = (-dy / len, dx / len);
+        let key = (from.min(to), from.max(to));
+        let frame = if from < to { 1 } else { -1 };
+        let used = self.bends.get(&key).cloned().unwrap_or_default();
+        let make = |bend: i32| -> Curve {
+            // Longer edges bend more, so that the curve clears the nodes it passes.
+            let h = f64::from(bend) * (len * 0.12).max(40.0);
+            let c1 = (a.x + normal.0 * h, a.y + normal.1 * h);
+            let c2 = (b.x + normal.0 * h, b.y + normal.1 * h);
+            if bend == 0 {
+                let p0 = a.boundary_toward(b.x, b.y);
+                let p3 = b.boundary_toward(a.x, a.y);
+                // A straight line: control points on it.
+                let third = |s: f64| (p0.0 + (p3.0 - p0.0) * s, p0.1 + (p3.1 - p0.1) * s);
+                Curve {
+                    p0,
+                    p1: third(1.0 / 3.0),
+                    p2: third(2.0 / 3.0),
+                    p3,
+                }
+            } else {
+                Curve {
+                    p0: a.boundary_toward(c1.0, c1.1),
+                    p1: c1,
+                    p2: c2,
+                    p3: b.boundary_toward(c2.0, c2.1),
+                }
+            }
+        };
+        let mut best: Option<(usize, i32, Curve)> = None;
+        for bend in [0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6, -6] {
+            if used.contains(&(bend * frame)) {
+                continue;
+            }
+            let curve = make(bend);
+            let hits = (1..20)
+                .map(|i| curve.at(f64::from(i) / 20.0))
+                .filter(|&(x, y)| {
+                    self.nodes
+                        .iter()
+                        .enumerate()
+                        .any(|(i, n)| i != from && i != to && n.near(x, y, 8.0))
+                })
+                .count();
+            if best.as_ref().is_none_or(|(h, _, _)| hits < *h) {
+                best = Some((hits, bend, curve));
+            }
+            if hits == 0 {
+                break;
+            }
+        }
+        let (bend, curve) = match best {
+            Some((_, bend, curve)) => (bend, curve),
+            None => {
+                let bend = 7 + used.len() as i32;
+                (bend, make(bend))
+            }
+        };
+        self.bends.entry(key).or_default().push(bend * frame);
+        curve
+    }
+
+    /// Puts a label near the middle of a curve where it meets no node and no label; if
+    /// there is no such place near the curve, the nearest free place below its middle.
+    fn place_label(&mut self, curve: &Curve, lines: Vec<String>) {
+        let (w, h) = Text::extent(&lines, FONT_SIZE);
+        let free = |b: &BBox, taken: &[BBox]| taken.iter().all(|t| !t.overlaps(b));
+        let mut chosen = None;
+        'search: for t in [0.5, 0.4, 0.6, 0.3, 0.7, 0.25, 0.75, 0.2, 0.8] {
+            let (x, y) = curve.at(t);
+            for (ox, oy) in [
+                (0.0, 0.0),
+                (w / 2.0 + 4.0, 0.0),
+                (-w / 2.0 - 4.0, 0.0),
+                (0.0, -h / 2.0 - 4.0),
+                (0.0, h / 2.0 + 4.0),
+            ] {
+                let b = BBox::centered(x + ox, y + oy, w, h);
+                if free(&b, &self.taken) {
+                    chosen = Some((x + ox, y + oy));
+                    break 'search;
+                }
+            }
+        }
+        let (x, y) = match chosen {
+            Some(point) => point,
+            None => {
+                let (x, mut y) = curve.at(0.5);
+                // Terminates: the taken boxes are finitely many and finite.
+                for _ in 0..100_000 {
+                    if free(&BBox::centered(x, y, w, h), &self.taken) {
+                        break;
+                    }
+                    y += 6.0;
+                }
+                (x, y)
+            }
+        };
+        let text = Text {
+            x,
+            y,
+            lines,
+            size: FONT_SIZE,
+            bold: false,
+        };
+        self.taken.push(text.bbox());
+        self.picture.shapes.push(Shape::Text(text));
+    }
+
+    /// The finished picture, with a heading above everything.
+    fn finish(mut self, title: String, heading: String) -> Picture {
+        let bounds = self.picture.bounds();
+        self.picture.shapes.push(Shape::Text(Text {
+            x: bounds.x + bounds.w / 2.0,
+            y: bounds.y - 24.0,
+            lines: vec![heading],
+            size: 15.0,
+            bold: true,
+        }));
+        self.picture.title = title;
+        self.picture
+    }
+}
+
+/// Cuts a label to at most [`MAX_NAME_CHARS`] characters.
+fn shorten(text: &str) -> String {
+    if text.chars().count() <= MAX_NAME_CHARS {
+        text.to_owned()
+    } else {
+        let mut cut: String = text.chars().take(MAX_NAME_CHARS - 1).collect();
+        cut.push('…');
+        cut
+    }
+}
+
+/// A state graph: BFS layers from the initial state as rows of circles (wrapped after
+/// [`MAX_PER_ROW`]), unreachable states in rows below; any-transitions start at a small bar
+/// above left of their target, return transitions end at a small bar right of their source.
+pub fn graph(model: &GraphModel) -> Picture {
+    let n = model.states.len();
+    let mut index: HashMap<u64, usize> = HashMap::new();
+    for (i, state) in model.states.iter().enumerate() {
+        index.entry(state.number).or_insert(i);
+    }
+    // Successors in text order.
+    let mut successors: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for trans in &model.transitions {
+        if let (End::State(s), End::State(t)) = (trans.source, trans.target) {
+            if let (Some(&s), Some(&t)) = (index.get(&s), index.get(&t)) {
+                successors[s].push(t);
+            }
+        }
+    }
+    let start = model
+        .initial
+        .and_then(|number| index.get(&number).copied())
+        .unwrap_or(0);
+    let mut layer: Vec<Option<usize>> = vec![None; n];
+    let mut layers: Vec<Vec<usize>> = Vec::new();
+    if n > 0 {
+        let mut queue = VecDeque::from([start]);
+        layer[start] = Some(0);
+        while let Some(s) = queue.pop_front() {
+            let depth = layer[s].unwrap_or(0);
+            if layers.len() <= depth {
+                layers.resize(depth + 1, Vec::new());
+            }
+            layers[depth].push(s);
+            for &t in &successors[s] {
+                if layer[t].is_none() {
+                    layer[t] = Some(depth + 1);
+                    queue.push_back(t);
+                }
+            }
+        }
+    }
+    let unreached: Vec<usize> = (0..n).filter(|&i| layer[i].is_none()).collect();
+    if !unreached.is_empty() {
+        layers.push(unreached);
+    }
+    let rows: Vec<Vec<usize>> = layers
+        .iter()
+        .flat_map(|l| l.chunks(MAX_PER_ROW).map(<[usize]>::to_vec))
+        .collect();
+
+    let names: Vec<Option<String>> = model
+        .states
+        .iter()
+        .map(|s| s.name.as_deref().map(shorten))
+        .collect();
+    let widest = names
+        .iter()
+        .flatten()
+        .map(|name| text_width(name, FONT_SIZE) + 4.0)
+        .fold(0.0, f64::max);
+    let column_width = (widest + 40.0).max(170.0);
+
+    let mut router = Router::default();
+    let mut node_of = vec![0; n];
+    for (r, row) in rows.iter().enumerate() {
+        let count = row.len() as f64;
+        for (c, &s) in row.iter().enumerate() {
+            let x = (c as f64 - (count - 1.0) / 2.0) * column_width;
+            let y = r as f64 * ROW_HEIGHT;
+            node_of[s] = router.add_node(Node {
+                x,
+                y,
+                outline: Outline::Circle(STATE_RADIUS),
+            });
+            let state = &model.states[s];
+            router.picture.shapes.push(Shape::Circle {
+                cx: x,
+                cy: y,
+                r: STATE_RADIUS,
+                double: s == start && model.initial.is_some(),
+            });
+            router.picture.shapes.push(Shape::Text(Text {
+                x,
+                y,
+                lines: vec![state.number.to_string()],
+                size: 14.0,
+                bold: true,
+            }));
+            if let Some(name) = &names[s] {
+                router.fixed_label(Text::new(x, y + STATE_RADIUS + 12.0, name.clone()));
+            }
+        }
+    }
+
+    // Bars for any- and return transitions, several per state side by side.
+    let mut any_bars: HashMap<usize, usize> = HashMap::new();
+    let mut return_bars: HashMap<usize, usize> = HashMap::new();
+    for trans in &model.transitions {
+        let label = vec![trans.label()];
+        let state = |end: End| match end {
+            End::State(number) => index.get(&number).map(|&s| node_of[s]),
+            _ => None,
+        };
+        let bar = |router: &mut Router, node: usize, dx: f64, dy: f64| -> usize {
+            let (x, y) = (router.nodes[node].x + dx, router.nodes[node].y + dy);
+            let bbox = BBox::centered(x, y, 26.0, 5.0);
+            router
+                .picture
+                .shapes
+                .push(Shape::Rect { bbox, filled: true });
+            router.add_node(Node {
+                x,
+                y,
+                outline: Outline::Rect(26.0, 5.0),
+            })
+        };
+        match (trans.source, trans.target) {
+            (End::Any, target) => {
+                let Some(target) = state(target) else {
+                    continue;
+                };
+                let k = any_bars.entry(target).or_default();
+                let dx = -70.0 - 34.0 * (*k as f64);
+                *k += 1;
+                let from = bar(&mut router, target, dx, -62.0);
+                router.edge(from, target, label, trans.name.clone());
+            }
+            (source, End::Return) => {
+                let Some(source) = state(source) else {
+                    continue;
+                };
+                let k = return_bars.entry(source).or_default();
+                let dy = 14.0 * (*k as f64);
+                *k += 1;
+                let to = bar(&mut router, source, 72.0, 10.0 + dy);
+                router.edge(source, to, label, trans.name.clone());
+            }
+            (source, target) => {
+                if let (Some(from), Some(to)) = (state(source), state(target)) {
+                    router.edge(from, to, label, trans.name.clone());
+                }
+            }
+        }
+    }
+    router.finish(
+        format!("graph {}", model.name),
+        format!("graph {}", model.name),
+    )
+}
+
+/// A graph group: instance boxes in run order, left to right in rows of about the square
+/// root of their number (at most four), so that most links join neighbours; one arrow per
+/// sending and receiving instance, labelled with the messages it carries.
+pub fn group(model: &GroupModel) -> Picture {
+    let per_row = ((model.instances.len() as f64).sqrt().ceil() as usize).clamp(1, 4);
+    let lines: Vec<[String; 2]> = model
+        .instances
+        .iter()
+        .map(|i| [shorten(&i.name), format!(": {}", shorten(&i.graph))])
+        .collect();
+    let width = lines
+        .iter()
+        .flatten()
+        .map(|l| text_width(l, FONT_SIZE + 1.0) + 24.0)
+        .fold(110.0, f64::max);
+    let height = 46.0;
+    let mut router = Router::default();
+    for (i, [name, graph]) in lines.iter().enumerate() {
+        let x = (i % per_row) as f64 * (width + 190.0);
+        let y = (i / per_row) as f64 * (height + 190.0);
+        router.add_node(Node {
+            x,
+            y,
+            outline: Outline::Rect(width, height),
+        });
+        router.picture.shapes.push(Shape::Rect {
+            bbox: BBox::centered(x, y, width, height),
+            filled: false,
+        });
+        router.picture.shapes.push(Shape::Text(Text {
+            x,
+            y: y - 8.0,
+            lines: vec![name.clone()],
+            size: FONT_SIZE + 1.0,
+            bold: true,
+        }));
+        router
+            .picture
+            .shapes
+            .push(Shape::Text(Text::new(x, y + 10.0, graph.clone())));
+    }
+    // One arrow per directed pair, in the order of the first link.
+    let mut pairs: Vec<((usize, usize), Vec<String>)> = Vec::new();
+    for link in &model.links {
+        let line = format!("{} → {}", link.out_message, link.in_message);
+        match pairs.iter_mut().find(|(p, _)| *p == (link.from, link.to)) {
+            Some((_, lines)) => lines.push(line),
+            None => pairs.push(((link.from, link.to), vec![line])),
+        }
+    }
+    for ((from, to), lines) in pairs {
+        router.edge(from, to, lines, None);
+    }
+    router.finish(
+        format!("group {}", model.name),
+        format!("group {}", model.name),
+    )
+}
+
+/// Vertical gap between the elements of a sequence.
+const GAP: f64 = 16.0;
+/// Horizontal gap between the branches of `parallel` and `alt`.
+const BRANCH_GAP: f64 = 30.0;
+
+/// The extent of a laid-out sequence around its centre line.
+#[derive(Debug, Clone, Copy, Default)]
+struct Extent {
+    left: f64,
+    right: f64,
+    height: f64,
+}
+
+fn step_width(name: &str) -> f64 {
+    (text_width(name, FONT_SIZE) + 24.0).max(80.0)
+}
+
+fn jump_label(kind: &str, name: &str, target: &str) -> String {
+    format!("{kind} {name} → {target}")
+}
+
+/// The extent of one element.
+fn measure_element(element: &Element) -> Extent {
+    match element {
+        Element::Step(name) => {
+            let w = step_width(name);
+            Extent {
+                left: w / 2.0,
+                right: w / 2.0,
+                height: 32.0,
+            }
+        }
+        Element::Trans(name) => Extent {
+            left: 16.0,
+            right: 22.0 + text_width(name, FONT_SIZE) + 4.0,
+            height: 22.0,
+        },
+        Element::Jump { name, target } | Element::Loop { name, target } => Extent {
+            left: 8.0,
+            right: 14.0 + text_width(&jump_label("jump", name, target), FONT_SIZE) + 4.0,
+            height: 30.0,
+        },
+        Element::Parallel(branches) | Element::Alt(branches) => {
+            let (width, height) = branches_size(branches);
+            Extent {
+                left: width / 2.0,
+                right: width / 2.0,
+                height: height + 28.0,
+            }
+        }
+    }
+}
+
+/// Total width and greatest height of side-by-side branches.
+fn branches_size(branches: &[Vec<Element>]) -> (f64, f64) {
+    let extents: Vec<Extent> = branches.iter().map(|b| measure(b)).collect();
+    let width = extents.iter().map(|e| e.left + e.right).sum::<f64>()
+        + BRANCH_GAP * (extents.len().saturating_sub(1) as f64);
+    let height = extents.iter().map(|e| e.height).fold(0.0, f64::max);
+    (width.max(40.0), height)
+}
+
+/// The extent of a sequence.
+fn measure(elements: &[Element]) -> Extent {
+    let mut extent = Extent::default();
+    for (i, e) in elements.iter().enumerate() {
+        let m = measure_element(e);
+        extent.left = extent.left.max(m.left);
+        extent.right = extent.right.max(m.right);
+        extent.height += m.height + if i > 0 { GAP } else { 0.0 };
+    }
+    extent.left = extent.left.max(10.0);
+    extent.right = extent.right.max(10.0);
+    extent
+}
+
+/// Draws charts: remembers where steps are and which jumps and loops still need arrows.
+#[derive(Default)]
+struct ChartPainter {
+    picture: Picture,
+    /// Step name (upper case) → right edge and vertical middle.
+    steps: HashMap<String, (f64, f64)>,
+    /// Jumps and loops: start point, target step name.
+    jumps: Vec<((f64, f64), String)>,
+}
+
+impl ChartPainter {
+    fn line(&mut self, x1: f64, y1: f64, x2: f64, y2: f64, width: f64) {
+        self.picture.shapes.push(Shape::Line {
+            x1,
+            y1,
+            x2,
+            y2,
+            width,
+        });
+    }
+
+    /// Draws a sequence with its centre line at `x`, starting at `y`; returns its bottom.
+    fn sequence(&mut self, elements: &[Element], x: f64, y: f64) -> f64 {
+        let mut y = y;
+        for (i, element) in elements.iter().enumerate() {
+            if i > 0 {
+                self.line(x, y, x, y + GAP, 1.2);
+                y += GAP;
+            }
+            y = self.element(element, x, y);
+        }
+        y
+    }
+
+    /// Draws one element whose top is at `y`; returns its bottom.
+    fn element(&mut self, element: &Element, x: f64, y: f64) -> f64 {
+        let extent = measure_element(element);
+        let bottom = y + extent.height;
+        match element {
+            Element::Step(name) => {
+                let w = step_width(name);
+                self.picture.shapes.push(Shape::Rect {
+                    bbox: BBox {
+                        x: x - w / 2.0,
+                        y,
+                        w,
+                        h: extent.height,
+                    },
+                    filled: false,
+                });
+                self.picture.shapes.push(Shape::Text(Text::new(
+                    x,
+                    y + extent.height / 2.0,
+                    name.clone(),
+                )));
+                self.steps
+                    .entry(name.to_ascii_uppercase())
+                    .or_insert((x + w / 2.0, y + extent.height / 2.0));
+            }
+            Element::Trans(name) => {
+                let mid = y + extent.height / 2.0;
+                self.line(x, y, x, bottom, 1.2);
+                self.line(x - 14.0, mid, x + 14.0, mid, 3.0);
+                let w = text_width(name, FONT_SIZE) + 4.0;
+                self.picture.shapes.push(Shape::Text(Text::new(
+                    x + 22.0 + w / 2.0,
+                    mid,
+                    name.clone(),
+                )));
+            }
+            Element::Jump { name, target } | Element::Loop { name, target } => {
+                let kind = if matches!(element, Element::Jump { .. }) {
+                    "jump"
+                } else {
+                    "loop"
+                };
+                self.line(x, y, x, bottom, 1.2);
+                let text = jump_label(kind, name, target);
+                let w = text_width(&text, FONT_SIZE) + 4.0;
+                self.picture
+                    .shapes
+                    .push(Shape::Text(Text::new(x + 14.0 + w / 2.0, y + 9.0, text)));
+                self.jumps
+                    .push(((x, y + 22.0), target.to_ascii_uppercase()));
+            }
+            Element::Parallel(branches) | Element::Alt(branches) => {
+                let double = matches!(element, Element::Parallel(_));
+                let (width, _) = branches_size(branches);
+                let extents: Vec<Extent> = branches.iter().map(|b| measure(b)).collect();
+                let mut left = x - width / 2.0;
+                let mut centres = Vec::new();
+                for e in &extents {
+                    centres.push(left + e.left);
+                    left += e.left + e.right + BRANCH_GAP;
+                }
+                let first = centres.first().copied().unwrap_or(x);
+                let last = centres.last().copied().unwrap_or(x);
+                let (bar_left, bar_right) = (first.min(x) - 12.0, last.max(x) + 12.0);
+                let top = y + 6.0;
+                let base = bottom - 6.0;
+                self.line(x, y, x, top, 1.2);
+                self.line(x, base, x, bottom, 1.2);
+                for bar in [top, base] {
+                    self.line(bar_left, bar, bar_right, bar, 1.5);
+                }
+                if double {
+                    self.line(bar_left, top + 4.0, bar_right, top + 4.0, 1.5);
+                    self.line(bar_left, base - 4.0, bar_right, base - 4.0, 1.5);
+                }
+                let inner_top = top + if double { 4.0 } else { 0.0 };
+                let inner_base = base - if double { 4.0 } else { 0.0 };
+                for (branch, &cx) in branches.iter().zip(&centres) {
+                    self.line(cx, inner_top, cx, y + 14.0, 1.2);
+                    let end = self.sequence(branch, cx, y + 14.0);
+                    self.line(cx, end, cx, inner_base, 1.2);
+                }
+            }
+        }
+        bottom
+    }
+}
+
+/// A chart: one column per sequencer. Steps are boxes on a vertical line, transitions short
+/// thick bars with their names at the right, `parallel` opens and closes with double lines
+/// and `alt` with single lines, branches side by side; jumps and loops are arrows along a
+/// lane right of the column into the right side of their target step.
+pub fn chart(model: &ChartModel) -> Picture {
+    let mut painter = ChartPainter::default();
+    let mut offset = 0.0;
+    for sequencer in &model.sequencers {
+        let extent = measure(&sequencer.elements);
+        let heading = format!("sequencer {}", sequencer.name);
+        let heading_width = text_width(&heading, FONT_SIZE + 1.0) + 4.0;
+        let x = offset + extent.left.max(heading_width / 2.0);
+        painter.picture.shapes.push(Shape::Text(Text {
+            x,
+            y: 0.0,
+            lines: vec![heading],
+            size: FONT_SIZE + 1.0,
+            bold: true,
+        }));
+        painter.jumps.clear();
+        painter.steps.clear();
+        painter.sequence(&sequencer.elements, x, 24.0);
+        let right = x + extent.right.max(heading_width / 2.0);
+        let jumps = std::mem::take(&mut painter.jumps);
+        for (k, ((sx, sy), target)) in jumps.iter().enumerate() {
+            let lane = right + 16.0 + 14.0 * k as f64;
+            let d = match painter.steps.get(target) {
+                Some(&(tx, ty)) => {
+                    format!("M{sx:.1},{sy:.1} H{lane:.1} V{ty:.1} H{tx:.1}")
+                }
+                // An unknown target: a short stub.
+                None => format!("M{sx:.1},{sy:.1} H{lane:.1}"),
+            };
+            painter.picture.shapes.push(Shape::Path {
+                d,
+                arrow: true,
+                dashed: false,
+                title: None,
+            });
+            painter
+                .picture
+                .extra
+                .push(BBox::centered(lane, *sy, 2.0, 2.0));
+        }
+        offset = right + 16.0 + 14.0 * jumps.len() as f64 + 60.0;
+    }
+    let router = Router {
+        picture: painter.picture,
+        ..Router::default()
+    };
+    router.finish(
+        format!("chart {}", model.name),
+        format!("chart {}", model.name),
+    )
+}
