@@ -338,3 +338,29 @@ fn quick_fixes_are_code_actions_with_their_diagnostic() {
     assert_eq!(tree.check_json()["summary"]["errors"], 0, "{fixed}");
     assert_eq!(server.shutdown_and_exit(), 0);
 }
+
+#[test]
+fn render_request_returns_an_svg_and_refuses_unknown_names() {
+    let tree = drilling();
+    let mut server = Server::indexed(&tree.path());
+    let result = server
+        .request("higraph/render", json!({"name": "Ventil_2E"}))
+        .expect("a picture");
+    let svg = result["svg"].as_str().expect("an svg string");
+    assert!(
+        svg.starts_with("<svg") || svg.starts_with("<?xml"),
+        "{svg:.80}"
+    );
+    assert!(svg.contains("Initialisierung"), "state names are drawn");
+    let error = server
+        .request("higraph/render", json!({"name": "Gibtsnicht"}))
+        .expect_err("an unknown name is refused");
+    assert_eq!(error["code"], -32803, "{error}");
+    assert!(
+        error["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("Ventil_2E")),
+        "{error}"
+    );
+    assert_eq!(server.shutdown_and_exit(), 0);
+}

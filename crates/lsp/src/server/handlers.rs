@@ -451,3 +451,28 @@ pub(crate) fn formatting(
         Err(reason) => Err(HandlerError::Failed(reason)),
     }
 }
+
+/// Parameters of the custom request `higraph/render` (`tooling.md` §4, §6).
+#[derive(Debug, serde::Deserialize)]
+pub(crate) struct RenderParams {
+    /// The graph, group or chart to draw.
+    pub name: String,
+}
+
+/// Result of `higraph/render`: a self-contained SVG.
+#[derive(Debug, serde::Serialize)]
+pub(crate) struct RenderResult {
+    pub svg: String,
+}
+
+/// `higraph/render`: the picture of a graph, group or chart; `RequestFailed` with the reason
+/// (listing what exists) for an unknown name.
+pub(crate) fn render(snapshot: &Snapshot, params: RenderParams) -> HandlerResult<RenderResult> {
+    match snapshot
+        .analysis
+        .render(&params.name, higraph_analysis::render::RenderFormat::Svg)?
+    {
+        Ok(svg) => Ok(RenderResult { svg }),
+        Err(message) => Err(HandlerError::Failed(message)),
+    }
+}

@@ -66,12 +66,14 @@ async fn serve_stdio() -> bool {
     let (to_client, outbox) = mpsc::unbounded_channel();
     let world = WorldHandle::spawn(to_client);
     let shut_down = Arc::new(AtomicBool::new(false));
-    let (service, socket) = LspService::new(|client| Backend {
+    let (service, socket) = LspService::build(|client| Backend {
         client,
         world,
         support: OnceLock::new(),
         shut_down: shut_down.clone(),
-    });
+    })
+    .custom_method("higraph/render", Backend::render)
+    .finish();
     let client = service.inner().client.clone();
     tokio::spawn(talk_to_client(client.clone(), outbox));
     let ending = transport::serve(
@@ -114,6 +116,15 @@ pub(crate) struct Backend {
 }
 
 impl Backend {
+    /// The custom request `higraph/render`: `{ "name": … }` → `{ "svg": … }`.
+    async fn render(
+        &self,
+        params: handlers::RenderParams,
+    ) -> jsonrpc::Result<handlers::RenderResult> {
+        self.answer("higraph/render", params, handlers::render)
+            .await
+    }
+
     fn support(&self) -> ClientSupport {
         self.support.get().copied().unwrap_or_default()
     }
