@@ -6,11 +6,11 @@ mod support;
 
 #[path = "cli/check.rs"]
 mod check;
-#[path = "cli/parse.rs"]
-mod parse;
-#[path = "cli/sarif.rs"]
-mod sarif;
 #[path = "cli/explain.rs"]
 mod explain;
 #[path = "cli/fmt.rs"]
 mod fmt;
+#[path = "cli/parse.rs"]
+mod parse;
+#[path = "cli/sarif.rs"]
+mod sarif;

@@ -20,8 +20,12 @@ fn check(example: &str, args: &[&str]) -> Output {
 }
 
 fn summary(output: &Output) -> serde_json::Value {
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout)
-        .unwrap_or_else(|e| panic!("invalid JSON ({e}): {}", String::from_utf8_lossy(&output.stdout)));
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap_or_else(|e| {
+        panic!(
+            "invalid JSON ({e}): {}",
+            String::from_utf8_lossy(&output.stdout)
+        )
+    });
     json["summary"].clone()
 }
 
@@ -31,8 +35,18 @@ fn drilling_and_mixer_have_no_errors_or_warnings() {
         let output = check(example, &["--format", "json"]);
         let summary = summary(&output);
         assert_eq!(output.status.code(), Some(0), "{example}: {summary}");
-        assert_eq!(summary["errors"], 0, "{example}: {}", String::from_utf8_lossy(&output.stdout));
-        assert_eq!(summary["warnings"], 0, "{example}: {}", String::from_utf8_lossy(&output.stdout));
+        assert_eq!(
+            summary["errors"],
+            0,
+            "{example}: {}",
+            String::from_utf8_lossy(&output.stdout)
+        );
+        assert_eq!(
+            summary["warnings"],
+            0,
+            "{example}: {}",
+            String::from_utf8_lossy(&output.stdout)
+        );
     }
 }
 

@@ -48,8 +48,12 @@ fn recheck_after_edit(c: &mut Criterion) {
     let mut host = load(&[(path.clone(), text.clone())]);
     let _ = host.analysis().diagnostics();
     // One character inside the condition of a transition: `UN` ↔ `ON` of a statement.
-    let at = text.find("trans 0->").and_then(|t| text[t..].find(" UN ").map(|i| t + i + 1));
-    let Some(at) = at else { panic!("max-graph has no transition 0->n with a UN condition") };
+    let at = text
+        .find("trans 0->")
+        .and_then(|t| text[t..].find(" UN ").map(|i| t + i + 1));
+    let Some(at) = at else {
+        panic!("max-graph has no transition 0->n with a UN condition")
+    };
     let variants = [text.clone(), format!("{}O{}", &text[..at], &text[at + 1..])];
     let mut flip = 0usize;
     let mut group = c.benchmark_group("recheck_after_edit");

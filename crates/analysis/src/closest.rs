@@ -3,7 +3,10 @@
 //! max(2, ⌊len/3⌋).
 
 /// The closest candidate to `written`, if it is close enough.
-pub fn closest<'a>(written: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub fn closest<'a>(
+    written: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
     let written_upper = written.to_ascii_uppercase();
     let limit = 2.max(written.chars().count() / 3);
     let mut best: Option<(usize, &'a str)> = None;
@@ -29,7 +32,9 @@ pub fn levenshtein(a: &str, b: &str) -> usize {
         current[0] = i + 1;
         for (j, &cb) in b.iter().enumerate() {
             let cost = usize::from(ca != cb);
-            current[j + 1] = (previous[j] + cost).min(previous[j + 1] + 1).min(current[j] + 1);
+            current[j + 1] = (previous[j] + cost)
+                .min(previous[j + 1] + 1)
+                .min(current[j] + 1);
         }
         std::mem::swap(&mut previous, &mut current);
     }

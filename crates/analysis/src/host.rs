@@ -118,7 +118,10 @@ impl AnalysisHost {
             return;
         }
         let Some(ws) = self.workspace else {
-            self.load(WorkspaceData { files: vec![(path.to_owned(), contents)], ..Default::default() });
+            self.load(WorkspaceData {
+                files: vec![(path.to_owned(), contents)],
+                ..Default::default()
+            });
             return;
         };
         let file = File::new(&self.db, path.to_owned(), Arc::new(contents));
@@ -134,7 +137,12 @@ impl AnalysisHost {
         let (Some(ws), Some(file)) = (self.workspace, self.files.remove(path)) else {
             return false;
         };
-        let files: Vec<File> = ws.files(&self.db).iter().copied().filter(|&f| f != file).collect();
+        let files: Vec<File> = ws
+            .files(&self.db)
+            .iter()
+            .copied()
+            .filter(|&f| f != file)
+            .collect();
         ws.set_files(&mut self.db).to(files);
         true
     }
@@ -142,14 +150,21 @@ impl AnalysisHost {
     /// The paths of the workspace's `.higraph` files, in workspace order.
     pub fn paths(&self) -> Vec<String> {
         match self.workspace {
-            Some(ws) => ws.files(&self.db).iter().map(|f| f.path(&self.db).clone()).collect(),
+            Some(ws) => ws
+                .files(&self.db)
+                .iter()
+                .map(|f| f.path(&self.db).clone())
+                .collect(),
             None => Vec::new(),
         }
     }
 
     /// A snapshot for queries.
     pub fn analysis(&self) -> Analysis {
-        Analysis { db: self.db.clone(), workspace: self.workspace }
+        Analysis {
+            db: self.db.clone(),
+            workspace: self.workspace,
+        }
     }
 }
 
@@ -205,7 +220,9 @@ impl Analysis {
         &self,
         f: impl FnOnce(&dyn salsa::Database, Workspace) -> T,
     ) -> Cancellable<T> {
-        let Some(ws) = self.workspace else { return Ok(T::default()) };
+        let Some(ws) = self.workspace else {
+            return Ok(T::default());
+        };
         let db = &self.db;
         salsa::Cancelled::catch(std::panic::AssertUnwindSafe(|| f(db, ws)))
     }
@@ -213,7 +230,10 @@ impl Analysis {
     /// The salsa file of a workspace-relative path (a `.higraph` file).
     pub(crate) fn file(&self, path: &str) -> Option<File> {
         let ws = self.workspace?;
-        ws.files(&self.db).iter().copied().find(|f| f.path(&self.db) == path)
+        ws.files(&self.db)
+            .iter()
+            .copied()
+            .find(|f| f.path(&self.db) == path)
     }
 
     /// The contents of a `.higraph` file, if it is in the workspace.

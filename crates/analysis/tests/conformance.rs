@@ -10,7 +10,10 @@ use higraph_analysis::registry::RULES;
 fn catalogue() -> Option<(PathBuf, String)> {
     let candidates = [
         std::env::var_os("HIGRAPH_SPEC_DIR").map(PathBuf::from),
-        Some(PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/spec"))),
+        Some(PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../../shared/spec"
+        ))),
     ];
     candidates.into_iter().flatten().find_map(|dir| {
         let path = dir.join("diagnostics.md");
@@ -48,11 +51,19 @@ fn registry_matches_the_catalogue() {
         return;
     };
     let spec = rows(&text);
-    assert!(spec.len() > 100, "{}: only {} rule rows found", path.display(), spec.len());
+    assert!(
+        spec.len() > 100,
+        "{}: only {} rule rows found",
+        path.display(),
+        spec.len()
+    );
     let ours: BTreeMap<String, (String, bool)> = RULES
         .iter()
         .map(|r| {
-            (r.code.as_str().to_owned(), (r.default_severity.as_str().to_owned(), r.off_by_default))
+            (
+                r.code.as_str().to_owned(),
+                (r.default_severity.as_str().to_owned(), r.off_by_default),
+            )
         })
         .collect();
     let only_spec: Vec<_> = spec.keys().filter(|c| !ours.contains_key(*c)).collect();

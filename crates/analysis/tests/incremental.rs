@@ -59,19 +59,36 @@ fn editing_one_graph_reuses_the_other_items_and_files() {
         ..WorkspaceData::default()
     });
     let first = executed(&host, &log);
-    let first_items = first.iter().filter(|q| q.starts_with("item_analysis")).count();
-    assert_eq!(first_items, 4, "one analysis per item on the first run: {first:#?}");
+    let first_items = first
+        .iter()
+        .filter(|q| q.starts_with("item_analysis"))
+        .count();
+    assert_eq!(
+        first_items, 4,
+        "one analysis per item on the first run: {first:#?}"
+    );
 
     // A one-character edit inside a transition of the first graph.
     let edited = VALVE.replacen("U Oben;", "UN Oben;", 1);
     assert!(host.set_file_contents("graphs.higraph", FileContents::Text(edited)));
     let second = executed(&host, &log);
 
-    let analyses: Vec<&String> = second.iter().filter(|q| q.starts_with("item_analysis")).collect();
-    assert_eq!(analyses.len(), 1, "only the edited graph is re-analysed: {second:#?}");
+    let analyses: Vec<&String> = second
+        .iter()
+        .filter(|q| q.starts_with("item_analysis"))
+        .collect();
+    assert_eq!(
+        analyses.len(),
+        1,
+        "only the edited graph is re-analysed: {second:#?}"
+    );
     // The edited file is re-parsed; the other files are not.
     let parses: Vec<&String> = second.iter().filter(|q| q.starts_with("parse(")).collect();
-    assert_eq!(parses.len(), 1, "only the edited file is re-parsed: {second:#?}");
+    assert_eq!(
+        parses.len(),
+        1,
+        "only the edited file is re-parsed: {second:#?}"
+    );
     // The workspace index did not change, so it is not rebuilt either.
     assert!(
         !second.iter().any(|q| q.starts_with("global_index")),

@@ -68,7 +68,9 @@ fn registry_docs_and_fixtures_cover_the_same_codes() {
 fn docs_state_the_default_severity() {
     for rule in RULES {
         let path = root().join("docs/rules").join(format!("{}.md", rule.code));
-        let Ok(text) = fs::read_to_string(&path) else { continue };
+        let Ok(text) = fs::read_to_string(&path) else {
+            continue;
+        };
         let line = text
             .lines()
             .find(|l| l.starts_with("Severity:"))

@@ -32,7 +32,10 @@ pub fn check_fixture(bytes: &[u8]) -> Vec<(String, String)> {
     let mut imports = HashMap::new();
     for (path, body) in files(bytes) {
         if let Some(path) = path.strip_suffix(" !unreadable") {
-            data.files.push((path.to_owned(), FileContents::unreadable("Permission denied")));
+            data.files.push((
+                path.to_owned(),
+                FileContents::unreadable("Permission denied"),
+            ));
         } else if path == "higraph.toml" {
             data.config = Some((path, String::from_utf8_lossy(&body).into_owned()));
         } else if path.ends_with(".higraph") {

@@ -36,14 +36,19 @@ pub(crate) fn load(fixture: &str) -> Fixture {
     let mut position = None;
     let mut selection = None;
     for (path, text) in &mut files {
-        let Some(first) = text.find("$0") else { continue };
+        let Some(first) = text.find("$0") else {
+            continue;
+        };
         text.replace_range(first..first + 2, "");
         let start = TextSize::from(first as u32);
         if let Some(second) = text.find("$0") {
             text.replace_range(second..second + 2, "");
             selection = Some(TextRange::new(start, TextSize::from(second as u32)));
         }
-        position = Some(FilePosition { path: path.clone(), offset: start });
+        position = Some(FilePosition {
+            path: path.clone(),
+            offset: start,
+        });
     }
     let position = position.unwrap_or_else(|| FilePosition {
         path: files.first().map(|(p, _)| p.clone()).unwrap_or_default(),
@@ -54,23 +59,34 @@ pub(crate) fn load(fixture: &str) -> Fixture {
         if path == "higraph.toml" {
             data.config = Some((path.clone(), text.clone()));
         } else {
-            data.files.push((path.clone(), FileContents::Text(text.clone())));
+            data.files
+                .push((path.clone(), FileContents::Text(text.clone())));
         }
     }
     let mut host = AnalysisHost::new();
     host.load(data);
-    Fixture { host, position, selection, files }
+    Fixture {
+        host,
+        position,
+        selection,
+        files,
+    }
 }
 
 impl Fixture {
     /// The text of a file of the fixture.
     pub fn text(&self, path: &str) -> &str {
-        self.files.iter().find(|(p, _)| p == path).map_or("", |(_, t)| t.as_str())
+        self.files
+            .iter()
+            .find(|(p, _)| p == path)
+            .map_or("", |(_, t)| t.as_str())
     }
 
     /// Renders `range` of `path` as `text` for assertions.
     pub fn slice(&self, path: &str, range: TextRange) -> &str {
-        self.text(path).get(std::ops::Range::<usize>::from(range)).unwrap_or("")
+        self.text(path)
+            .get(std::ops::Range::<usize>::from(range))
+            .unwrap_or("")
     }
 }
 
@@ -80,5 +96,8 @@ fn markers_are_removed() {
     assert_eq!(f.position.path, "a.higraph");
     assert_eq!(f.text("a.higraph"), "graph G < state 0 < > >\n");
     assert_eq!(u32::from(f.position.offset), 10);
-    assert_eq!(f.host.paths(), vec!["a.higraph".to_owned(), "b.higraph".to_owned()]);
+    assert_eq!(
+        f.host.paths(),
+        vec!["a.higraph".to_owned(), "b.higraph".to_owned()]
+    );
 }

@@ -20,18 +20,18 @@
 
 use higraph_syntax::{TextRange, TextSize};
 
-#[cfg(test)]
-pub(crate) mod fixture;
 mod code_actions;
 mod completion;
 pub mod defs;
+#[cfg(test)]
+pub(crate) mod fixture;
+mod folding;
 mod goto_definition;
 mod highlights;
 mod hover;
+mod inlay_hints;
 mod references;
 mod rename;
-mod folding;
-mod inlay_hints;
 mod semantic_tokens;
 mod symbols;
 
@@ -41,10 +41,8 @@ pub use folding::{Fold, FoldKind};
 pub use highlights::HighlightKind;
 pub use hover::Hover;
 pub use inlay_hints::{InlayHint, InlayKind};
+pub use semantic_tokens::{SemanticToken, TOKEN_KINDS, TOKEN_MODIFIERS, TokenKind, TokenModifier};
 pub use symbols::DocumentSymbol;
-pub use semantic_tokens::{
-    SemanticToken, TOKEN_KINDS, TOKEN_MODIFIERS, TokenKind, TokenModifier,
-};
 
 /// A position in a workspace file.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
