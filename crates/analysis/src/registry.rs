@@ -1082,3 +1082,19 @@ pub fn rule_of(code: &str) -> Option<&'static Rule> {
 pub fn is_syntax_code(code: &str) -> bool {
     code.starts_with("HG0")
 }
+
+include!(concat!(env!("OUT_DIR"), "/rule_docs.rs"));
+
+/// The documentation of every rule, `(code, markdown)`, sorted by code: `docs/rules/*.md`,
+/// embedded at build time (see `build.rs`).
+pub fn rule_docs() -> &'static [(&'static str, &'static str)] {
+    RULE_DOCS
+}
+
+/// The documentation of one code (`HG2105`, upper case).
+pub fn rule_doc(code: &str) -> Option<&'static str> {
+    RULE_DOCS
+        .binary_search_by(|(c, _)| (*c).cmp(code))
+        .ok()
+        .map(|i| RULE_DOCS[i].1)
+}

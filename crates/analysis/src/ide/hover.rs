@@ -25,8 +25,6 @@ use crate::{
     resolve::GraphScope,
 };
 
-include!(concat!(env!("OUT_DIR"), "/rule_docs.rs"));
-
 /// A hover: the range it is about and its markdown text.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Hover {
@@ -883,8 +881,8 @@ fn allow_code(token: &SyntaxToken, offset: TextSize) -> Option<Hover> {
 /// The documentation of a code (`HG1210`), or the list of rules of a pattern (`HG12xx`).
 fn rule_text(code: &str) -> Option<String> {
     let upper = code.to_ascii_uppercase();
-    if let Ok(i) = RULE_DOCS.binary_search_by(|(c, _)| (*c).cmp(upper.as_str())) {
-        return RULE_DOCS.get(i).map(|(_, doc)| (*doc).to_owned());
+    if let Some(doc) = registry::rule_doc(&upper) {
+        return Some(doc.to_owned());
     }
     if let Some(rule) = registry::rule_of(&upper) {
         return Some(format!(

@@ -1,7 +1,8 @@
 //! `higraph-lsp explain HGnnnn`: prints the documentation of a diagnostic code — what the rule
 //! checks, why, an example and how to fix it (`tooling.md` §2).
 //!
-//! The documentation is `docs/rules/HGnnnn.md`, embedded at build time (see `build.rs`). The
+//! The documentation is `docs/rules/HGnnnn.md`, embedded into the analysis crate at build
+//! time (`higraph_analysis::registry::rule_docs`). The
 //! code may be written in any letter case (`hg2105`). An unknown or malformed code is a usage
 //! error (exit status 2).
 
@@ -10,8 +11,6 @@ use std::process::ExitCode;
 use higraph_analysis::registry;
 
 use super::{CliError, ExplainArgs, write_stdout};
-
-include!(concat!(env!("OUT_DIR"), "/rule_docs.rs"));
 
 pub(crate) fn run(args: &ExplainArgs) -> Result<ExitCode, CliError> {
     let code = normalise(&args.code)?;
@@ -43,7 +42,7 @@ fn normalise(written: &str) -> Result<String, CliError> {
 /// The documentation of a code: its file, or (should a file be missing) a short text made
 /// from the registry.
 fn documentation(code: &str) -> Option<String> {
-    if let Some((_, text)) = RULE_DOCS.iter().find(|(c, _)| *c == code) {
+    if let Some((_, text)) = registry::rule_docs().iter().find(|(c, _)| *c == code) {
         return Some((*text).to_owned());
     }
     let rule = registry::rule_of(code)?;
@@ -66,7 +65,7 @@ mod tests {
     use higraph_analysis::Severity;
 
     fn doc(code: &str) -> &'static str {
-        RULE_DOCS
+        registry::rule_docs()
             .iter()
             .find(|(c, _)| *c == code)
             .map(|(_, text)| *text)
@@ -87,7 +86,10 @@ mod tests {
     #[test]
     fn every_code_is_documented() {
         let codes: Vec<&str> = registry::RULES.iter().map(|r| r.code.as_str()).collect();
-        let documented: Vec<&str> = RULE_DOCS.iter().map(|(code, _)| *code).collect();
+        let documented: Vec<&str> = registry::rule_docs()
+            .iter()
+            .map(|(code, _)| *code)
+            .collect();
         assert_eq!(codes, documented);
     }
 
@@ -120,7 +122,7 @@ mod tests {
     /// Every file has the title line and the four sections, in order.
     #[test]
     fn documentation_has_its_sections() {
-        for (code, text) in RULE_DOCS {
+        for (code, text) in registry::rule_docs() {
             let first = text.lines().next().unwrap_or_default();
             assert!(
                 first.starts_with(&format!("# {code}: ")) && first.len() > 10,
@@ -141,7 +143,7 @@ mod tests {
     /// parse without syntax errors.
     #[test]
     fn examples_parse() {
-        for (code, text) in RULE_DOCS {
+        for (code, text) in registry::rule_docs() {
             for example in examples(text, "higraph") {
                 let parse = higraph_syntax::parse(&example);
                 let codes: Vec<&str> = parse.errors().iter().map(|e| e.code.as_str()).collect();
