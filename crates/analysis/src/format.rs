@@ -704,33 +704,6 @@ const JOINED: &[SyntaxKind] = &[
 /// spacing is part of what they mean (`E 1.0` vs `E1.0`, `-5`).
 const PRESERVED: &[SyntaxKind] = &[ADDRESS, LITERAL, INDIRECT, PATH, MESSAGE_TARGET];
 
-/// Type names that are written in upper case (language.md §3.1).
-const TYPE_NAMES: &[&str] = &[
-    "BOOL",
-    "BYTE",
-    "WORD",
-    "DWORD",
-    "INT",
-    "DINT",
-    "REAL",
-    "S5TIME",
-    "TIME",
-    "DATE",
-    "TIME_OF_DAY",
-    "TOD",
-    "DATE_AND_TIME",
-    "DT",
-    "CHAR",
-    "STRING",
-    "TIMER",
-    "COUNTER",
-    "POINTER",
-    "ANY",
-    "BLOCK_FC",
-    "BLOCK_FB",
-    "BLOCK_DB",
-];
-
 /// Address-area identifiers of both mnemonic sets (diagnostics.md Appendix A.2).
 const AREAS: &[&str] = &[
     "E", "A", "M", "L", "I", "Q", "EB", "EW", "ED", "AB", "AW", "AD", "MB", "MW", "MD", "LB", "LW",
@@ -801,7 +774,7 @@ fn token_text(token: &SyntaxToken) -> String {
     match parent {
         Some(OPCODE | LABEL | QUALIFIER) => text.to_ascii_uppercase(),
         Some(TYPE_REF) if kind == IDENT => {
-            if TYPE_NAMES.iter().any(|t| t.eq_ignore_ascii_case(text)) {
+            if crate::lang::Type::from_name(text, true).is_some() {
                 text.to_ascii_uppercase()
             } else {
                 text.to_owned()
