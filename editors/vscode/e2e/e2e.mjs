@@ -1,0 +1,143 @@
+// Drives code-server (started by run.sh) in headless Chromium with playwright-core and checks
+// the extension end to end. Inputs come from run.sh through the environment:
+//   E2E_URL (workbench URL with ?folder=), E2E_WS (workspace), E2E_SHOTS, E2E_CACHE.
+import { createRequire } from 'node:module';
+import { join } from 'node:path';
+
+const { E2E_URL: url, E2E_SHOTS: shots, E2E_CACHE: cache } = process.env;
+const { chromium } = createRequire(join(cache, 'package.json'))('playwright-core');
+
+const failures = [];
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) failures.push(what);
+};
+const poll = async (fn, { tries = 40, every = 500 } = {}) => {
+  for (let i = 0; i < tries; i++) {
+    const v = await fn().catch(() => null);
+    if (v) return v;
+    await new Promise((r) => setTimeout(r, every));
+  }
+  return null;
+};
+
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+});
+try {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+  const shot = (name) => page.screenshot({ path: join(shots, `${name}.png`) }).catch(() => {});
+  await page.goto(url);
+  await page.waitForSelector('.monaco-workbench', { timeout: 60_000 });
+  await page.waitForTimeout(3000);
+
+  const editorLines = page.locator('.editor-instance .view-lines').first();
+  const pick = async (keys, text, rowText) => {
+    await page.keyboard.press(keys);
+    const input = page.locator('.quick-input-widget input');
+    await input.waitFor({ state: 'visible', timeout: 10_000 });
+    await input.fill(text);
+    const row = page.locator('.quick-input-list .monaco-list-row', { hasText: rowText }).first();
+    await row.waitFor({ state: 'visible', timeout: 15_000 });
+    await row.click();
+    await page.waitForTimeout(1000);
+  };
+  const open = async (file) => {
+    await pick('Control+P', file, file);
+    await page.waitForSelector('.editor-instance .view-lines', { timeout: 10_000 });
+    await poll(async () => (await page.locator('.tab.active', { hasText: file }).count()) > 0);
+    await page.waitForTimeout(1500);
+  };
+
+  // (1) highlighting: TextMate tokens give the spans more than one colour class (mtkN)
+  await open('e2e_fehler.higraph');
+  const colours = await poll(async () => {
+    const c = await page.$$eval('.editor-instance .view-lines span span', (spans) => [
+      ...new Set(spans.flatMap((s) => [...s.classList].filter((k) => /^mtk\d+$/.test(k)))),
+    ]);
+    return c.length > 1 ? c : null;
+  }, { tries: 20 });
+  check(!!colours, `the grammar colours the .higraph file (colour classes: ${colours?.join(' ') ?? 'one or none'})`);
+  const mode = await page.locator('#status\\.editor\\.mode').innerText().catch(() => '');
+  check(/HiGraph/i.test(mode), `language mode in the status bar is HiGraph (${mode.trim() || 'none'})`);
+
+  // (2) diagnostics: a squiggle in the editor and an entry in the Problems panel
+  const squiggles = await poll(async () => page.locator('.squiggly-error').count(), { tries: 60 });
+  check(squiggles > 0, `the seeded errors show as squiggles (${squiggles ?? 0} .squiggly-error)`);
+  await shot('1-highlighting-diagnostics');
+  await page.keyboard.press('Control+Shift+M');
+  const problem = await poll(async () => {
+    const rows = await page.locator('.markers-panel .monaco-list-row').allInnerTexts();
+    return rows.find((r) => /unknown operation/i.test(r)) ?? null;
+  }, { tries: 30 });
+  check(!!problem, `the Problems panel lists the seeded error (${(problem ?? 'no matching row').replace(/\s+/g, ' ').trim().slice(0, 100)})`);
+  await shot('2-problems-panel');
+  await page.keyboard.press('Control+Shift+M'); // close the panel again
+
+  // (3) completion after `Vorschub.` offers the incoming messages of Ventil_2E
+  await open('bohrmaschine.higraph');
+  await editorLines.click();
+  await page.keyboard.press('Control+G');
+  await page.keyboard.type('15');
+  await page.keyboard.press('Enter');
+  await page.keyboard.press('End');
+  for (let i = 0; i < 7; i++) await page.keyboard.press('Backspace'); // `.IM_Ab;` -> `Vorschub`
+  await page.waitForTimeout(500);
+  await page.keyboard.type('.');
+  const suggest = page.locator('.editor-widget.suggest-widget .monaco-list-row');
+  let labels = await poll(async () => {
+    const l = await suggest.allInnerTexts();
+    return l.length > 0 && l.some((t) => /IM_Ab/.test(t)) ? l : null;
+  }, { tries: 10 });
+  if (!labels) {
+    await page.keyboard.press('Control+Space');
+    labels = await poll(async () => {
+      const l = await suggest.allInnerTexts();
+      return l.length > 0 && l.some((t) => /IM_Ab/.test(t)) ? l : null;
+    }, { tries: 20 });
+  }
+  const names = (labels ?? []).map((t) => t.split(/\s+/)[0]);
+  check(names.includes('IM_Ab') && names.includes('IM_Auf'), `completion after "Vorschub." offers IM_Ab and IM_Auf (${names.join(', ') || 'no suggestions'})`);
+  await shot('3-completion');
+  await page.keyboard.press('Escape');
+  await page.keyboard.press('Control+Z');
+  await page.keyboard.press('Control+Z');
+  await page.waitForTimeout(500);
+
+  // (4) "HiGraph: Show Graph Preview" opens a webview with an SVG picture
+  await page.keyboard.press('Control+Home');
+  await page.keyboard.press('ArrowDown');
+  await page.keyboard.press('ArrowDown');
+  await pick('F1', '>HiGraph: Show Graph Preview', 'Show Graph Preview');
+  const svg = await poll(async () => {
+    for (const frame of page.frames()) {
+      const found = await frame
+        .evaluate(() => {
+          const img = [...document.querySelectorAll('img')].find((el) => el.src.startsWith('data:image/svg+xml') && el.complete && el.naturalWidth > 0);
+          if (img) return `img ${img.naturalWidth}x${img.naturalHeight}`;
+          const s = document.querySelector('svg g, svg path, svg text') && document.querySelector('svg');
+          return s ? `inline svg ${s.getBoundingClientRect().width | 0}x${s.getBoundingClientRect().height | 0}` : null;
+        })
+        .catch(() => null);
+      if (found) return found;
+    }
+    return null;
+  }, { tries: 40 });
+  let previewText = '';
+  if (!svg) {
+    for (const frame of page.frames()) {
+      const t = await frame.evaluate(() => document.body?.innerText ?? '').catch(() => '');
+      if (/graph|group|preview|error/i.test(t)) previewText += ` ${t}`;
+    }
+  }
+  check(!!svg, `"HiGraph: Show Graph Preview" shows an SVG in the webview (${svg ?? `none; webview text: ${previewText.replace(/\s+/g, ' ').trim().slice(0, 200)}`})`);
+  await shot('4-preview');
+} catch (err) {
+  failures.push(String(err));
+  console.error('FAIL', err);
+} finally {
+  await browser.close();
+}
+console.log(failures.length === 0 ? 'e2e: all checks passed' : `e2e: ${failures.length} check(s) failed:\n  - ${failures.join('\n  - ')}`);
+process.exit(failures.length === 0 ? 0 : 1);
