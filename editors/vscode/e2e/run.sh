@@ -52,7 +52,7 @@ code_server="$cache/node_modules/code-server/out/node/entry.js"
 # --- the server and the extension ------------------------------------------------------------
 step "cargo build --release -p higraph-lsp"
 (cd "$root" && cargo build --release -p higraph-lsp)
-server="$root/target/release/higraph-lsp"
+server="${CARGO_TARGET_DIR:-$root/target}/release/higraph-lsp"
 
 vsix=$(ls -t "$ext_dir"/higraph-*.vsix 2>/dev/null | head -n1 || true)
 if [ -n "$vsix" ] && [ -z "$(cd "$ext_dir" && find src syntaxes snippets package.json language-configuration.json -newer "$vsix" -print -quit)" ]; then
