@@ -16,7 +16,7 @@ fi
 server="${HIGRAPH_LSP:-}"
 if [ -z "$server" ]; then
   cargo build --quiet --manifest-path "$repo/Cargo.toml" -p higraph-lsp
-  server="$repo/target/debug/higraph-lsp"
+  server="${CARGO_TARGET_DIR:-$repo/target}/debug/higraph-lsp"
 fi
 
 work="$(mktemp -d)"
