@@ -10,6 +10,10 @@
 //! | `group`      | HG3103, HG3104, HG5xxx, HG8xxx |
 //! | `symbols`    | HG6xxx, HG4309, HG4310, HG1301 (workspace-wide) |
 //! | `chart`      | HG7xxx and the chart side of HG1xxx/HG3xxx/HG4101 |
+//!
+//! Shared by the modules: `edit` (the text edits of quick fixes), `has_error` (C1) and
+//! `Ctx::with_closest_fix` ("did you mean" fixes); `stl::time` checks the time values of
+//! graphs and charts.
 
 use std::collections::BTreeSet;
 

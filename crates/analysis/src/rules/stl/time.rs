@@ -63,9 +63,9 @@ impl TimeKind {
 /// * `value` — the value as parsed (a constant or an operand);
 /// * `ty` — the operand's resolved type; `None` when unknown or unresolved (then only
 ///   constants are checked; report HG3005 separately);
-/// * `kind` — what the value sets (HG3008's wording);
-/// * `item` — the whole item (`wait T#0S;`, `max T#0S;`), for HG3008's "remove the item" fix;
-///   pass `None` for qualifier times, which get no fix.
+/// * `kind` — what the value sets (HG3008's wording and fix title);
+/// * `item` — the whole item (`wait T#0S;`, `max T#0S;`), removed by HG3008's fix; pass `None`
+///   for qualifier times, which get no fix.
 pub(crate) fn check_time_value(
     ctx: &mut Ctx<'_>,
     value: &ast::Operand,
