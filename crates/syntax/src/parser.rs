@@ -84,7 +84,12 @@ impl<'t> Parser<'t> {
         let mut adjacent = false;
         for (i, token) in tokens.iter().enumerate() {
             offsets.push(offset);
-            lexer::token_errors(*token, offset, &mut errors);
+            // Only a few kinds can carry an error of their own; skip the call for the rest.
+            if matches!(token.kind, STRING | CHAR | LEX_ERROR)
+                || (matches!(token.kind, IDENT | TYPED_CONST) && !token.text.is_ascii())
+            {
+                lexer::token_errors(*token, offset, &mut errors);
+            }
             offset += TextSize::of(token.text);
             match token.kind {
                 WHITESPACE | COMMENT | LEX_ERROR => {

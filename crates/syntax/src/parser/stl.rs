@@ -20,7 +20,8 @@ const BLOCK_AREAS: &[&str] = &["OB", "FC", "FB", "DB", "SFC", "SFB"];
 const BRACKET_OPS: &[&str] = &["U", "UN", "O", "ON", "X", "XN", "A", "AN"];
 
 fn is_area(word: &str) -> bool {
-    AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
+    // Areas are 1 to 3 ASCII letters; most names are longer, so check the length first.
+    word.len() <= 3 && AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
 }
 
 /// `word` = area letters followed by digits (`E1`, `MW10`, `DBX5`)?
