@@ -29,17 +29,32 @@ pub fn output_files(db: &dyn salsa::Database, ws: Workspace) -> Vec<File> {
 
 /// The diagnostics of every output file.
 pub fn all_diagnostics(db: &dyn salsa::Database, ws: Workspace) -> Vec<(FileId, Vec<Diagnostic>)> {
-    let files = output_files(db, ws);
-    let ids: HashMap<File, FileId> = files
+    output_files(db, ws)
+        .iter()
+        .enumerate()
+        .map(|(i, &file)| {
+            (
+                FileId(i as u32),
+                cached_file_diagnostics(db, ws, file).clone(),
+            )
+        })
+        .collect()
+}
+
+/// The diagnostics of one file, cached: after an edit only the files whose inputs changed are
+/// converted again (severities, suppressions, absolute positions), not the whole workspace.
+#[salsa::tracked(returns(ref))]
+pub fn cached_file_diagnostics(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+) -> Vec<Diagnostic> {
+    let ids: HashMap<File, FileId> = output_files(db, ws)
         .iter()
         .enumerate()
         .map(|(i, &f)| (f, FileId(i as u32)))
         .collect();
-    files
-        .iter()
-        .enumerate()
-        .map(|(i, &file)| (FileId(i as u32), file_diagnostics(db, ws, file, &ids)))
-        .collect()
+    file_diagnostics(db, ws, file, &ids)
 }
 
 /// The diagnostics of one file.
@@ -119,7 +134,7 @@ pub fn file_diagnostics(
     let text = contents.text();
     let line_index = LineIndex::new(text);
     let (allows, unknown_codes) = if is_source {
-        suppress::allows(db::parse(db, file), &line_index)
+        suppress::allows(text, db::parse(db, file), &line_index)
     } else {
         Default::default()
     };

@@ -8,14 +8,10 @@
 //! * [`Analysis::format_edits`] turns the canonical layout of [`crate::format::format`] into
 //!   edits: one per run of changed lines, found by a line diff of the old and the new text.
 
-use std::collections::HashMap;
-
 use higraph_syntax::{TextRange, TextSize};
 
 use crate::{
-    Analysis, Cancellable, Diagnostic, FileId, check,
-    db::File,
-    format,
+    Analysis, Cancellable, Diagnostic, check, format,
     ide::{Edit, SourceChange},
 };
 
@@ -45,13 +41,8 @@ impl Analysis {
             let Some(file) = files.iter().copied().find(|f| f.path(db) == path) else {
                 return Vec::new();
             };
-            let ids: HashMap<File, FileId> = files
-                .iter()
-                .enumerate()
-                .map(|(i, &f)| (f, FileId(u32::try_from(i).unwrap_or(u32::MAX))))
-                .collect();
             let paths: Vec<String> = files.iter().map(|f| f.path(db).clone()).collect();
-            check::file_diagnostics(db, ws, file, &ids)
+            check::cached_file_diagnostics(db, ws, file)
                 .iter()
                 .filter(|d| d.range.intersect(range).is_some())
                 .flat_map(|d| actions_of(d, &paths))
