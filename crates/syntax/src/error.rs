@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use rowan::TextRange;
+use rowan::{TextRange, TextSize};
 
 /// The syntax codes of `diagnostics.md` §3.0. All are errors and cannot be reconfigured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -136,6 +136,33 @@ impl SyntaxError {
             }],
         });
         self
+    }
+}
+
+impl SyntaxError {
+    /// The error with every range (primary, related, fixes) mapped by `f`; `None` if `f`
+    /// refuses one of them.
+    pub fn try_map_ranges(
+        &self,
+        mut f: impl FnMut(TextRange) -> Option<TextRange>,
+    ) -> Option<SyntaxError> {
+        let mut out = self.clone();
+        out.range = f(out.range)?;
+        for related in &mut out.related {
+            related.range = f(related.range)?;
+        }
+        for edit in out.fixes.iter_mut().flat_map(|fix| &mut fix.edits) {
+            edit.range = f(edit.range)?;
+        }
+        Some(out)
+    }
+
+    /// The error with every range moved right by `offset`.
+    pub fn shifted(self, offset: TextSize) -> SyntaxError {
+        match self.try_map_ranges(|r| Some(r + offset)) {
+            Some(shifted) => shifted,
+            None => self,
+        }
     }
 }
 

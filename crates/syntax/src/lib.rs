@@ -10,12 +10,14 @@ mod kind;
 pub mod lexer;
 pub mod literal;
 mod parser;
+mod reparse;
 mod validation;
 
 use std::fmt::Write;
 
 pub use error::{ErrorCode, Fix, Related, SyntaxError, TextEdit};
 pub use kind::{HiGraphLanguage, SyntaxElement, SyntaxKind, SyntaxNode, SyntaxToken};
+pub use reparse::Edit;
 pub use rowan::{self, GreenNode, TextRange, TextSize, WalkEvent};
 
 /// The result of parsing one file: the green tree and the syntax diagnostics.
@@ -55,11 +57,17 @@ impl Parse {
     }
 }
 
+impl Parse {
+    fn new(green: GreenNode, mut errors: Vec<SyntaxError>) -> Parse {
+        errors.sort_by_key(|e| (e.range.start(), e.range.end(), e.code));
+        Parse { green, errors }
+    }
+}
+
 /// Parses one file. Never fails, never panics; the tree's text equals `text`.
 pub fn parse(text: &str) -> Parse {
-    let (green, mut errors) = parser::parse(text);
-    errors.sort_by_key(|e| (e.range.start(), e.range.end(), e.code));
-    Parse { green, errors }
+    let (green, errors) = parser::parse(text);
+    Parse::new(green, errors)
 }
 
 /// Prints a subtree: nodes as `KIND@start..end`, tokens as `KIND@start..end "text"`, indented by

@@ -11,6 +11,7 @@
 //! file reports HG0003.
 
 mod chart;
+pub(crate) mod fragment;
 mod graph;
 mod group;
 mod items;

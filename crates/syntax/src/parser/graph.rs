@@ -26,7 +26,7 @@ pub(crate) fn graph(p: &mut Parser<'_>) {
     p.finish_node();
 }
 
-fn member(p: &mut Parser<'_>) {
+pub(super) fn member(p: &mut Parser<'_>) {
     if items::at_var_section(p) {
         items::var_section(p, &[Scope::Graph]);
     } else if p.at_word("activate") {
