@@ -19,10 +19,13 @@ fn main() {
         .find("trans 0->")
         .and_then(|t| text[t..].find(" UN ").map(|i| t + i + 1))
         .expect("a UN condition");
-    let variants = [text.clone(), format!("{}O{}", &text[..at], &text[at + 1..])];
     let start = std::time::Instant::now();
     for i in 0..n {
-        host.set_file_contents(&path, FileContents::Text(variants[i % 2].clone()));
+        let edit = higraph_syntax::Edit {
+            delete: higraph_syntax::TextRange::at((at as u32).into(), 1.into()),
+            insert: if i % 2 == 0 { "O" } else { "U" }.to_owned(),
+        };
+        host.apply_edits(&path, &[edit]);
         let _ = host.analysis().diagnostics().len();
     }
     println!("{:?} per edit", start.elapsed() / n as u32);

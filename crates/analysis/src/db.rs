@@ -37,6 +37,18 @@ pub struct File {
     pub path: String,
     #[returns(ref)]
     pub contents: Arc<FileContents>,
+    /// The previous parse and the edit that turned its text into `contents`, when the host
+    /// knows them ([`crate::AnalysisHost::apply_edits`]): [`parse`] then reparses only the
+    /// edited block.
+    #[returns(ref)]
+    pub reparse_base: Option<Arc<ReparseBase>>,
+}
+
+/// What [`parse`] needs to reparse a file incrementally.
+#[derive(Debug, PartialEq, Eq)]
+pub struct ReparseBase {
+    pub old: Parse,
+    pub edit: higraph_syntax::Edit,
 }
 
 /// The workspace: its files in workspace order, configuration and imports.
@@ -116,8 +128,9 @@ impl RootDatabase {
 /// The syntax tree of a file. Files that are not text have an empty tree.
 #[salsa::tracked(returns(ref))]
 pub fn parse(db: &dyn salsa::Database, file: File) -> Parse {
-    match &**file.contents(db) {
-        FileContents::Text(text) => higraph_syntax::parse(text),
+    match (&**file.contents(db), file.reparse_base(db)) {
+        (FileContents::Text(text), Some(base)) => base.old.reparse(&base.edit, text),
+        (FileContents::Text(text), None) => higraph_syntax::parse(text),
         _ => higraph_syntax::parse(""),
     }
 }
@@ -178,18 +191,29 @@ pub fn file_summary(db: &dyn salsa::Database, file: File) -> FileSummary {
     summary
 }
 
+/// A green node compared with [`higraph_syntax::green_eq`]: two versions of a tree are
+/// equal in time proportional to what an edit changed.
+#[derive(Debug, Clone, Eq)]
+pub struct Green(pub GreenNode);
+
+impl PartialEq for Green {
+    fn eq(&self, other: &Green) -> bool {
+        higraph_syntax::green_eq(&self.0, &other.0)
+    }
+}
+
 /// The green node of one item: its syntax with offsets relative to the item's start.
 #[salsa::tracked(returns(clone))]
-pub fn item_syntax<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Option<GreenNode> {
+pub fn item_syntax<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Option<Green> {
     let parse = parse(db, item.file(db));
     item_nodes(parse)
         .nth(item.index(db) as usize)
-        .map(|n| n.green().to_owned())
+        .map(|n| Green(n.green().to_owned()))
 }
 
 /// The item's syntax tree, rooted at the item (offsets relative to the item's start).
 pub fn item_root(db: &dyn salsa::Database, item: ItemLoc<'_>) -> Option<SyntaxNode> {
-    item_syntax(db, item).map(SyntaxNode::new_root)
+    item_syntax(db, item).map(|green| SyntaxNode::new_root(green.0))
 }
 
 /// Where each item of a file starts (to make item-relative ranges absolute).

@@ -64,13 +64,13 @@ impl AnalysisHost {
         self.files.clear();
         let mut files = Vec::new();
         for (path, contents) in paths {
-            let file = File::new(db, path.clone(), Arc::new(contents));
+            let file = File::new(db, path.clone(), Arc::new(contents), None);
             self.files.insert(path, file);
             files.push(file);
         }
         let config_file = data
             .config
-            .map(|(path, text)| File::new(db, path, Arc::new(FileContents::Text(text))));
+            .map(|(path, text)| File::new(db, path, Arc::new(FileContents::Text(text)), None));
         let imports = config
             .symbols
             .iter()
@@ -80,6 +80,7 @@ impl AnalysisHost {
                         db,
                         path.clone(),
                         Arc::new(FileContents::Text(sdf::decode(bytes))),
+                        None,
                     )),
                     Some(Err(reason)) => Err(reason.clone()),
                     None => Err("the file was not found".to_owned()),
@@ -106,10 +107,38 @@ impl AnalysisHost {
         match self.files.get(path) {
             Some(&file) => {
                 file.set_contents(&mut self.db).to(Arc::new(contents));
+                file.set_reparse_base(&mut self.db).to(None);
                 true
             }
             None => false,
         }
+    }
+
+    /// Applies edits, in order, to the text of a `.higraph` file (a keystroke in an editor).
+    /// Each edit's range refers to the text left by the edits before it. Unlike
+    /// [`AnalysisHost::set_file_contents`] this lets the next parse reparse only the edited
+    /// block. Returns the new text; `None` if the workspace has no such text file or an
+    /// edit's range does not fit the text — the edits before that one stay applied, so the
+    /// caller should then set the whole contents.
+    pub fn apply_edits(&mut self, path: &str, edits: &[higraph_syntax::Edit]) -> Option<String> {
+        let &file = self.files.get(path)?;
+        let mut text = match &**file.contents(&self.db) {
+            FileContents::Text(text) => text.clone(),
+            _ => return None,
+        };
+        for edit in edits {
+            text = edit.apply(&text)?;
+            // The parse of the text before this edit: memoized after the first keystroke.
+            let old = crate::db::parse(&self.db, file).clone();
+            file.set_contents(&mut self.db)
+                .to(Arc::new(FileContents::Text(text.clone())));
+            let base = crate::db::ReparseBase {
+                old,
+                edit: edit.clone(),
+            };
+            file.set_reparse_base(&mut self.db).to(Some(Arc::new(base)));
+        }
+        Some(text)
     }
 
     /// Adds a `.higraph` file, or sets its contents if it exists. Keeps workspace order.
@@ -124,7 +153,7 @@ impl AnalysisHost {
             });
             return;
         };
-        let file = File::new(&self.db, path.to_owned(), Arc::new(contents));
+        let file = File::new(&self.db, path.to_owned(), Arc::new(contents), None);
         self.files.insert(path.to_owned(), file);
         let mut files = ws.files(&self.db).clone();
         let at = files.partition_point(|f| f.path(&self.db).as_str() < path);

@@ -21,10 +21,38 @@ pub use reparse::Edit;
 pub use rowan::{self, GreenNode, TextRange, TextSize, WalkEvent};
 
 /// The result of parsing one file: the green tree and the syntax diagnostics.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct Parse {
     green: GreenNode,
     errors: Vec<SyntaxError>,
+}
+
+impl PartialEq for Parse {
+    fn eq(&self, other: &Parse) -> bool {
+        green_eq(&self.green, &other.green) && self.errors == other.errors
+    }
+}
+
+impl Eq for Parse {}
+
+/// Structural equality of two green trees that skips shared subtrees: after an incremental
+/// reparse only the edited path is new, so comparing two versions of a tree costs the width
+/// of that path, not the size of the tree (rowan's own `==` walks everything).
+pub fn green_eq(a: &rowan::GreenNodeData, b: &rowan::GreenNodeData) -> bool {
+    if std::ptr::eq(a, b) {
+        return true;
+    }
+    if a.kind() != b.kind()
+        || a.text_len() != b.text_len()
+        || a.children().len() != b.children().len()
+    {
+        return false;
+    }
+    a.children().zip(b.children()).all(|pair| match pair {
+        (rowan::NodeOrToken::Node(x), rowan::NodeOrToken::Node(y)) => green_eq(x, y),
+        (rowan::NodeOrToken::Token(x), rowan::NodeOrToken::Token(y)) => x == y,
+        _ => false,
+    })
 }
 
 impl Parse {
