@@ -25,7 +25,7 @@ use crate::{
     diag::{Diag, Loc},
     index::GlobalIndex,
     lang::Mnemonic,
-    rules,
+    rules::{self, graph::facts::MemberFacts},
     sdf::Import,
 };
 
@@ -209,6 +209,89 @@ pub fn item_syntax<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Opt
     item_nodes(parse)
         .nth(item.index(db) as usize)
         .map(|n| Green(n.green().to_owned()))
+}
+
+/// A member of a graph (a `state`, `trans`, variable section, ...), identified by its green
+/// node. An incremental reparse keeps the green nodes of the members it did not touch, so
+/// their [`member_facts`] and STL analyses are found again by pointer.
+#[salsa::interned(debug)]
+pub struct Member<'db> {
+    #[returns(ref)]
+    pub green: MemberGreen,
+}
+
+/// A member's green node, compared and hashed by address: equal addresses are the same
+/// node (the interned value keeps it alive), and equal content at another address only
+/// costs a recomputation.
+#[derive(Debug, Clone)]
+pub struct MemberGreen(pub GreenNode);
+
+impl PartialEq for MemberGreen {
+    fn eq(&self, other: &MemberGreen) -> bool {
+        std::ptr::eq::<higraph_syntax::rowan::GreenNodeData>(&*self.0, &*other.0)
+    }
+}
+
+impl Eq for MemberGreen {}
+
+impl std::hash::Hash for MemberGreen {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        std::ptr::hash::<higraph_syntax::rowan::GreenNodeData, H>(&*self.0, state)
+    }
+}
+
+impl MemberGreen {
+    /// The member's own tree (offsets relative to the member's start).
+    pub fn root(&self) -> SyntaxNode {
+        SyntaxNode::new_root(self.0.clone())
+    }
+}
+
+/// The members of a graph item, in text order, with their offsets in the item.
+#[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
+pub struct GraphLayout<'db> {
+    pub members: Vec<Member<'db>>,
+    pub offsets: Vec<TextSize>,
+}
+
+/// The layout of a graph item (empty for other items). Runs on every edit of the item, but
+/// only walks the green children of the graph's body.
+#[salsa::tracked(returns(ref))]
+pub fn graph_layout<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> GraphLayout<'db> {
+    let mut layout = GraphLayout::default();
+    let Some(Green(graph)) = item_syntax(db, item) else {
+        return layout;
+    };
+    if graph.kind() != SyntaxKind::GRAPH.into() {
+        return layout;
+    }
+    let mut offset = TextSize::from(0);
+    for child in graph.children() {
+        let len = child.text_len();
+        if let higraph_syntax::rowan::NodeOrToken::Node(body) = child
+            && body.kind() == SyntaxKind::BODY.into()
+        {
+            let mut inner = offset;
+            for member in body.children() {
+                let len = member.text_len();
+                if let higraph_syntax::rowan::NodeOrToken::Node(node) = member {
+                    layout
+                        .members
+                        .push(Member::new(db, MemberGreen(node.to_owned())));
+                    layout.offsets.push(inner);
+                }
+                inner += len;
+            }
+        }
+        offset += len;
+    }
+    layout
+}
+
+/// What the graph rules need to know of one member.
+#[salsa::tracked(returns(ref))]
+pub fn member_facts<'db>(db: &'db dyn salsa::Database, member: Member<'db>) -> MemberFacts {
+    MemberFacts::of(&member.green(db).root())
 }
 
 /// The item's syntax tree, rooted at the item (offsets relative to the item's start).

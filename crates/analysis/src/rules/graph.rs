@@ -12,7 +12,8 @@
 //! Time values themselves (HG3004–HG3006, HG3008) are checked with the STL operands.
 
 mod decls;
-mod model;
+pub(crate) mod facts;
+pub(crate) mod model;
 mod modes;
 mod priority;
 mod startup;
@@ -22,21 +23,28 @@ use higraph_syntax::ast;
 
 use super::edit;
 // Re-exported for the formatter; `rules/mod.rs` has to make `graph` visible to it.
-use self::model::GraphModel;
+pub(crate) use self::model::GraphModel;
 #[allow(unused_imports)]
 pub use self::model::effective_priorities;
 use super::Ctx;
 
-/// Runs every graph rule of this module on one graph.
-pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
-    let name = graph.name().map(|n| n.text()).unwrap_or_default();
-    decls::check_variables(ctx, graph, &format!("graph {name}"));
+/// Runs every graph rule of this module on one graph, whose members `model` describes.
+pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
+    decls::check_variables(ctx, graph, &format!("graph {}", model.name));
     decls::check_activate(ctx, graph);
-    let model = GraphModel::new(graph);
-    structure::check(ctx, graph, &model);
-    startup::check(ctx, graph, &model);
-    priority::check(ctx, &model);
-    modes::check(ctx, graph, &model);
+    structure::check(ctx, graph, model);
+    startup::check(ctx, graph, model);
+    priority::check(ctx, model);
+    modes::check(ctx, model);
+}
+
+/// Does the graph declare a variable of this name (any section)?
+pub(crate) fn declares_variable(graph: &ast::Graph, name: &str) -> bool {
+    graph
+        .var_sections()
+        .flat_map(|s| s.decls())
+        .filter_map(|d| d.name())
+        .any(|n| n.text().eq_ignore_ascii_case(name))
 }
 
 #[cfg(test)]

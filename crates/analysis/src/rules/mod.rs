@@ -29,7 +29,7 @@ use crate::{
 pub(crate) mod chart;
 pub(crate) mod decls;
 mod edit;
-mod graph;
+pub(crate) mod graph;
 pub(crate) mod group;
 mod names;
 pub(crate) mod stl;
@@ -111,7 +111,18 @@ pub(crate) fn check_item(
     match ast::Item::cast(root) {
         Some(ast::Item::Graph(graph)) => {
             names::check_graph(&mut ctx, &graph);
-            graph::check(&mut ctx, &graph);
+            let layout = db::graph_layout(db, item);
+            let facts = layout
+                .offsets
+                .iter()
+                .zip(&layout.members)
+                .map(|(&offset, &member)| (offset, db::member_facts(db, member)));
+            let model = graph::GraphModel::new(
+                graph.name().map(|n| n.text()).unwrap_or_default(),
+                facts,
+                graph::declares_variable(&graph, "INIT_SD"),
+            );
+            graph::check(&mut ctx, &graph, &model);
             stl::check(&mut ctx, &graph);
         }
         Some(ast::Item::Group(group)) => {

@@ -1,79 +1,139 @@
 //! The structure of one graph as the graph rules see it: its states (with duplicates marked,
 //! C3), its transitions with endpoints, priority ranges, effective priorities (§2.6), the
 //! startup transitions and the labels used in messages (§2.3).
+//!
+//! The model is built from the cached [`MemberFacts`] of the graph's members and their
+//! offsets; every range it hands out is relative to the item. Lookups the rules repeat
+//! (a state by number, the transitions of a priority range, the transitions leaving a state)
+//! are indexed once, so the rules stay linear in the size of the graph.
 
 use std::collections::{HashMap, HashSet};
 
-use higraph_syntax::{SyntaxKind, SyntaxToken, TextRange, ast, ast::AstNode};
+use higraph_syntax::{TextRange, TextSize, ast, ast::AstNode};
 
-use crate::lang::{self, Mnemonic};
+use super::facts::{
+    AttrFact, BodyItemFact, EndFact, EndpointFact, MemberFacts, StateFacts, TransFacts,
+};
+
+/// A range from a member's facts, made relative to the item.
+fn at(offset: TextSize, range: TextRange) -> TextRange {
+    range + offset
+}
+
+/// An attribute of a header, with item-relative ranges.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Attr<'a> {
+    /// The keyword in lower case.
+    pub word: &'a str,
+    pub range: TextRange,
+    /// The attribute with the white space before it.
+    pub removal: TextRange,
+}
+
+fn attrs(offset: TextSize, facts: &[AttrFact]) -> impl Iterator<Item = Attr<'_>> {
+    facts.iter().map(move |a| Attr {
+        word: &a.word,
+        range: at(offset, a.range),
+        removal: at(offset, a.removal),
+    })
+}
+
+/// A `wait` or `supervise` item, with item-relative ranges.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BodyItem {
+    pub keyword: &'static str,
+    /// Without the `;`.
+    pub range: TextRange,
+    /// With the white space before it.
+    pub removal: TextRange,
+}
+
+fn body_items(offset: TextSize, facts: &[BodyItemFact]) -> Vec<BodyItem> {
+    facts
+        .iter()
+        .map(|i| BodyItem {
+            keyword: i.keyword,
+            range: at(offset, i.range),
+            removal: at(offset, i.removal),
+        })
+        .collect()
+}
 
 /// One `state` whose number parsed.
-pub(crate) struct StateEntry {
-    pub node: ast::State,
-    /// The number token as written.
-    pub number: SyntaxToken,
-    /// The number without leading zeros (equal numbers have equal keys).
-    pub key: String,
+pub(crate) struct StateEntry<'a> {
+    facts: &'a StateFacts,
+    offset: TextSize,
+    /// The number as written.
+    number: &'a str,
     /// The number, if it fits a `u64`.
     pub value: Option<u64>,
-    /// `state` through the number.
-    pub header: TextRange,
     /// The earlier state with the same number, if this one is a duplicate (HG2101).
     pub first: Option<usize>,
 }
 
-impl StateEntry {
+impl<'a> StateEntry<'a> {
+    /// The number as written.
+    pub fn number(&self) -> &'a str {
+        self.number
+    }
+
+    pub fn number_range(&self) -> TextRange {
+        at(self.offset, self.facts.number_range)
+    }
+
+    /// `state` through the number.
+    pub fn header(&self) -> TextRange {
+        at(self.offset, self.facts.header)
+    }
+
     /// Is the number within 0..65535?
     pub fn in_range(&self) -> bool {
         self.value.is_some_and(|v| v <= 65535)
     }
 
     /// The state's `wait` items, in text order.
-    pub fn waits(&self) -> Vec<ast::WaitItem> {
-        self.body_items()
-            .into_iter()
-            .filter_map(|i| match i {
-                ast::BodyItem::Wait(w) => Some(w),
-                _ => None,
-            })
-            .collect()
+    pub fn waits(&self) -> Vec<BodyItem> {
+        body_items(self.offset, &self.facts.waits)
     }
 
     /// The state's `supervise` items, in text order.
-    pub fn supervisions(&self) -> Vec<ast::SuperviseItem> {
-        self.body_items()
-            .into_iter()
-            .filter_map(|i| match i {
-                ast::BodyItem::Supervise(s) => Some(s),
-                _ => None,
-            })
-            .collect()
+    pub fn supervisions(&self) -> Vec<BodyItem> {
+        body_items(self.offset, &self.facts.supervisions)
     }
 
-    fn body_items(&self) -> Vec<ast::BodyItem> {
-        self.node
-            .body()
-            .map(|b| b.body_items().collect())
-            .unwrap_or_default()
+    pub fn has_wait(&self) -> bool {
+        !self.facts.waits.is_empty()
     }
 }
 
 /// What a transition endpoint names.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) enum End {
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum End<'a> {
     /// A state number (its key: the number without leading zeros).
-    State(String),
+    State(&'a str),
     Any,
     Return,
 }
 
 /// One endpoint of a transition.
-pub(crate) struct EndpointEntry {
-    pub end: End,
-    pub node: ast::Endpoint,
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct EndpointEntry<'a> {
+    pub end: End<'a>,
     /// As shown in labels: the number as written, `any` or `return`.
-    pub text: String,
+    pub text: &'a str,
+    pub range: TextRange,
+}
+
+fn endpoint(offset: TextSize, fact: &EndpointFact) -> EndpointEntry<'_> {
+    EndpointEntry {
+        end: match &fact.end {
+            EndFact::State(text) => End::State(number_key(text)),
+            EndFact::Any => End::Any,
+            EndFact::Return => End::Return,
+        },
+        text: fact.text(),
+        range: at(offset, fact.range),
+    }
 }
 
 /// A priority range (§2.6): the transitions leaving one state, or all any-transitions.
@@ -85,12 +145,15 @@ pub(crate) enum PrioRange {
 }
 
 /// One `trans` of the graph.
-pub(crate) struct TransEntry {
-    pub source: Option<EndpointEntry>,
-    pub target: Option<EndpointEntry>,
-    /// `trans` through the target endpoint; `None` if the header did not parse.
-    pub header: Option<TextRange>,
-    pub prio_clause: Option<ast::PrioClause>,
+pub(crate) struct TransEntry<'a> {
+    facts: &'a TransFacts,
+    offset: TextSize,
+    pub source: Option<EndpointEntry<'a>>,
+    pub target: Option<EndpointEntry<'a>>,
+    /// The state the source names, if it exists.
+    pub source_state: Option<usize>,
+    /// The state the target names, if it exists.
+    pub target_state: Option<usize>,
     /// The explicit priority (saturating at `u64::MAX`).
     pub explicit: Option<u64>,
     pub range: Option<PrioRange>,
@@ -98,15 +161,53 @@ pub(crate) struct TransEntry {
     pub priority: Option<u64>,
     /// A startup transition (§2.6)?
     pub startup: bool,
-    /// `{src}->{dst}`, with ` (prio {p})` where two transitions would share a label.
-    pub label: String,
-    /// The header's attributes with their lower-case keywords, in text order.
-    pub attributes: Vec<(String, ast::Attribute)>,
-    /// Is the condition part empty (§2.6)?
-    pub empty_condition: bool,
+    /// Does another transition have the same `{src}->{dst}`?
+    shared_label: bool,
 }
 
-impl TransEntry {
+impl<'a> TransEntry<'a> {
+    /// `trans` through the target endpoint; `None` if the header did not parse.
+    pub fn header(&self) -> Option<TextRange> {
+        self.facts.header.map(|h| at(self.offset, h))
+    }
+
+    /// The `prio` clause's range, if there is one.
+    pub fn prio_range(&self) -> Option<TextRange> {
+        self.facts.prio.as_ref().map(|p| at(self.offset, p.range))
+    }
+
+    /// The number of the `prio` clause as written (empty if there is none).
+    pub fn prio_text(&self) -> &'a str {
+        self.facts
+            .prio
+            .as_ref()
+            .and_then(|p| p.value.as_deref())
+            .unwrap_or_default()
+    }
+
+    /// The header's attributes, in text order.
+    pub fn attributes(&self) -> impl Iterator<Item = Attr<'a>> + use<'a> {
+        attrs(self.offset, &self.facts.attributes)
+    }
+
+    /// Is the condition part empty (§2.6)?
+    pub fn empty_condition(&self) -> bool {
+        self.facts.empty_condition
+    }
+
+    /// `{src}->{dst}`, with ` (prio {p})` where two transitions would share a label.
+    pub fn label(&self) -> String {
+        let plain = format!(
+            "{}->{}",
+            self.source.as_ref().map_or("?", |e| e.text),
+            self.target.as_ref().map_or("?", |e| e.text)
+        );
+        match self.priority.or(self.explicit) {
+            Some(p) if self.shared_label => format!("{plain} (prio {p})"),
+            _ => plain,
+        }
+    }
+
     /// A normal transition: a state to a state.
     pub fn is_normal(&self) -> bool {
         matches!(
@@ -125,79 +226,149 @@ impl TransEntry {
 
     /// An any-transition.
     pub fn is_any(&self) -> bool {
-        self.source_end() == Some(&End::Any)
+        self.source_end() == Some(End::Any)
     }
 
     /// What the source endpoint names, if it parsed.
-    pub fn source_end(&self) -> Option<&End> {
-        self.source.as_ref().map(|e| &e.end)
+    pub fn source_end(&self) -> Option<End<'a>> {
+        self.source.map(|e| e.end)
     }
 
     /// What the target endpoint names, if it parsed.
-    pub fn target_end(&self) -> Option<&End> {
-        self.target.as_ref().map(|e| &e.end)
+    pub fn target_end(&self) -> Option<End<'a>> {
+        self.target.map(|e| e.end)
     }
 
     /// Does the header carry the attribute `word` (lower case)?
     pub fn has(&self, word: &str) -> bool {
-        self.attributes.iter().any(|(w, _)| w == word)
+        self.facts.attributes.iter().any(|a| a.word == word)
     }
 }
 
-/// Attributes with their lower-case keywords.
-pub(crate) fn attributes(
-    attrs: impl Iterator<Item = ast::Attribute>,
-) -> Vec<(String, ast::Attribute)> {
-    attrs
-        .filter_map(|a| {
-            let word = a.keyword()?.text().to_ascii_lowercase();
-            Some((word, a))
-        })
-        .collect()
-}
-
 /// The graph as the structure rules see it.
-pub(crate) struct GraphModel {
+pub(crate) struct GraphModel<'a> {
     /// The graph's name as declared.
     pub name: String,
-    pub states: Vec<StateEntry>,
+    pub states: Vec<StateEntry<'a>>,
     /// The first state of each number key.
-    by_key: HashMap<String, usize>,
+    by_key: HashMap<&'a str, usize>,
     /// Every `trans` in text order.
-    pub transitions: Vec<TransEntry>,
+    pub transitions: Vec<TransEntry<'a>>,
+    /// The priority ranges with transitions, in order of first appearance, with their
+    /// transitions in text order.
+    ranges: Vec<(PrioRange, Vec<usize>)>,
+    /// Per state: the normal and return transitions leaving it, in text order.
+    leaving: Vec<Vec<usize>>,
+    /// The attributes of every state header (numbered or not) and then of every transition
+    /// header, in text order (HG2106).
+    pub headers: Vec<Vec<Attr<'a>>>,
+    /// `wait`/`supervise` items of transitions and `permanent` blocks, in text order.
+    pub misplaced: Vec<BodyItem>,
 }
 
-impl GraphModel {
-    /// Reads the states and transitions of a graph and computes priorities and labels.
-    pub fn new(graph: &ast::Graph) -> GraphModel {
-        let name = graph.name().map(|n| n.text()).unwrap_or_default();
-        let mut states: Vec<StateEntry> = Vec::new();
-        let mut by_key: HashMap<String, usize> = HashMap::new();
-        for node in graph.states() {
-            let Some(entry) = state_entry(node) else {
-                continue;
-            };
-            let index = states.len();
-            let first = by_key.get(&entry.key).copied();
-            if first.is_none() {
-                by_key.insert(entry.key.clone(), index);
-            }
-            states.push(StateEntry { first, ..entry });
-        }
-        let declares_init_sd = declares_variable(graph, "INIT_SD");
-        let transitions = graph
-            .transitions()
-            .map(|node| trans_entry(node, &by_key, declares_init_sd))
-            .collect();
+impl<'a> GraphModel<'a> {
+    /// Builds the model from the facts of the graph's members and their offsets in the item.
+    /// `declares_init_sd`: the graph declares a variable `INIT_SD` (then no transition is a
+    /// startup transition).
+    pub fn new(
+        name: String,
+        members: impl IntoIterator<Item = (TextSize, &'a MemberFacts)>,
+        declares_init_sd: bool,
+    ) -> GraphModel<'a> {
         let mut model = GraphModel {
             name,
-            states,
-            by_key,
-            transitions,
+            states: Vec::new(),
+            by_key: HashMap::new(),
+            transitions: Vec::new(),
+            ranges: Vec::new(),
+            leaving: Vec::new(),
+            headers: Vec::new(),
+            misplaced: Vec::new(),
         };
-        model.assign_priorities();
-        model.assign_labels();
+        let mut state_headers = Vec::new();
+        let mut trans_facts = Vec::new();
+        for (offset, facts) in members {
+            match facts {
+                MemberFacts::State(state) => {
+                    state_headers.push(attrs(offset, &state.attributes).collect());
+                    let Some(number) = &state.number else {
+                        continue;
+                    };
+                    let key = number_key(number);
+                    let index = model.states.len();
+                    let first = model.by_key.get(key).copied();
+                    if first.is_none() {
+                        model.by_key.insert(key, index);
+                    }
+                    model.states.push(StateEntry {
+                        facts: state,
+                        offset,
+                        number,
+                        value: number.parse().ok(),
+                        first,
+                    });
+                }
+                MemberFacts::Trans(trans) => {
+                    model.misplaced.extend(body_items(offset, &trans.misplaced));
+                    trans_facts.push((offset, trans));
+                }
+                MemberFacts::Permanent { misplaced } => {
+                    model.misplaced.extend(body_items(offset, misplaced));
+                }
+                MemberFacts::Other => {}
+            }
+        }
+        model.headers = state_headers;
+        model.transitions = trans_facts
+            .into_iter()
+            .map(|(offset, facts)| model.trans_entry(offset, facts, declares_init_sd))
+            .collect();
         model
+            .headers
+            .extend(model.transitions.iter().map(|t| t.attributes().collect()));
+        model.index_ranges();
+        model.assign_priorities();
+        model.mark_shared_labels();
+        model
+    }
+
+    fn trans_entry(
+        &self,
+        offset: TextSize,
+        facts: &'a TransFacts,
+        declares_init_sd: bool,
+    ) -> TransEntry<'a> {
+        let source = facts.source.as_ref().map(|e| endpoint(offset, e));
+        let target = facts.target.as_ref().map(|e| endpoint(offset, e));
+        let source_state = self.existing(source.map(|e| e.end));
+        let target_state = self.existing(target.map(|e| e.end));
+        let explicit = facts
+            .prio
+            .as_ref()
+            .and_then(|p| p.value.as_deref())
+            .map(|v| v.parse::<u64>().unwrap_or(u64::MAX));
+        // A state's range holds its normal and return transitions; `s->any` is in none (HG2104).
+        let range = match (&source, &target, facts.header) {
+            (Some(s), Some(t), Some(_)) => match (s.end, t.end) {
+                (End::Any, _) => Some(PrioRange::Any),
+                (End::State(_), End::State(_) | End::Return) => source_state.map(PrioRange::State),
+                _ => None,
+            },
+            _ => None,
+        };
+        TransEntry {
+            facts,
+            offset,
+            source,
+            target,
+            source_state,
+            target_state,
+            explicit,
+            range,
+            priority: None,
+            startup: facts.queries_init_sd && !declares_init_sd,
+            shared_label: false,
+        }
     }
 
     /// The first state with this number key.
@@ -206,7 +377,7 @@ impl GraphModel {
     }
 
     /// Does the endpoint name an existing state?
-    pub fn existing(&self, end: Option<&End>) -> Option<usize> {
+    pub fn existing(&self, end: Option<End<'_>>) -> Option<usize> {
         match end {
             Some(End::State(key)) => self.state(key),
             _ => None,
@@ -214,57 +385,69 @@ impl GraphModel {
     }
 
     /// The indexes of the transitions of a priority range, in text order.
-    pub fn range_members(&self, range: PrioRange) -> Vec<usize> {
-        (0..self.transitions.len())
-            .filter(|&i| self.transitions[i].range == Some(range))
-            .collect()
+    pub fn range_members(&self, range: PrioRange) -> &[usize] {
+        self.ranges
+            .iter()
+            .find(|(r, _)| *r == range)
+            .map_or(&[], |(_, members)| members)
     }
 
-    /// Every priority range that has at least one transition, in order of first appearance.
-    pub fn ranges(&self) -> Vec<PrioRange> {
-        let mut out: Vec<PrioRange> = Vec::new();
-        for range in self.transitions.iter().filter_map(|t| t.range) {
-            if !out.contains(&range) {
-                out.push(range);
-            }
-        }
-        out
+    /// Every priority range that has at least one transition, in order of first appearance,
+    /// with its transitions.
+    pub fn ranges(&self) -> &[(PrioRange, Vec<usize>)] {
+        &self.ranges
+    }
+
+    /// The normal and return transitions leaving state `state`, in text order.
+    pub fn leaving(&self, state: usize) -> &[usize] {
+        self.leaving.get(state).map_or(&[], |l| l)
     }
 
     /// The lowest priority ≥ 1 that no transition of the range has.
     pub fn lowest_free_priority(&self, range: PrioRange) -> u64 {
-        let used: Vec<u64> = self
+        let used: HashSet<u64> = self
             .range_members(range)
-            .into_iter()
-            .filter_map(|i| self.transitions[i].priority)
+            .iter()
+            .filter_map(|&i| self.transitions[i].priority)
             .collect();
         (1..).find(|p| !used.contains(p)).unwrap_or(1)
     }
 
     /// The startup transitions, in text order.
-    pub fn startups(&self) -> impl Iterator<Item = &TransEntry> {
+    pub fn startups(&self) -> impl Iterator<Item = &TransEntry<'a>> {
         self.transitions.iter().filter(|t| t.startup)
+    }
+
+    fn index_ranges(&mut self) {
+        let mut position: HashMap<PrioRange, usize> = HashMap::new();
+        self.leaving = vec![Vec::new(); self.states.len()];
+        for (i, t) in self.transitions.iter().enumerate() {
+            if let Some(range) = t.range {
+                let at = *position.entry(range).or_insert_with(|| {
+                    self.ranges.push((range, Vec::new()));
+                    self.ranges.len() - 1
+                });
+                self.ranges[at].1.push(i);
+            }
+            if let (true, Some(source)) = (t.is_normal() || t.is_return(), t.source_state) {
+                self.leaving[source].push(i);
+            }
+        }
     }
 
     /// §2.6: explicit priorities as written; implicit ones the smallest integer above every
     /// earlier priority of the range that no explicit `prio` of the range uses.
     fn assign_priorities(&mut self) {
-        for t in &mut self.transitions {
-            if t.range.is_none() {
-                t.priority = None;
-            }
-        }
-        for range in self.ranges() {
-            let members = self.range_members(range);
+        for (_, members) in &self.ranges {
             let explicit: HashSet<u64> = members
                 .iter()
                 .filter_map(|&i| self.transitions[i].explicit)
                 .collect();
             let mut highest: Option<u64> = None;
-            for i in members {
+            for &i in members {
                 let t = &self.transitions[i];
                 // A `prio` without its number (a syntax error, C1) has no known priority.
-                if t.prio_clause.is_some() && t.explicit.is_none() {
+                if t.facts.prio.is_some() && t.explicit.is_none() {
                     continue;
                 }
                 let priority = match t.explicit {
@@ -283,18 +466,20 @@ impl GraphModel {
         }
     }
 
-    /// `{src}->{dst}`, disambiguated by ` (prio {p})` where labels repeat.
-    fn assign_labels(&mut self) {
-        let mut counts: HashMap<String, usize> = HashMap::new();
+    /// Marks the transitions whose `{src}->{dst}` another transition shares.
+    fn mark_shared_labels(&mut self) {
+        let plain = |t: &TransEntry<'a>| {
+            (
+                t.source.as_ref().map_or("?", |e| e.text),
+                t.target.as_ref().map_or("?", |e| e.text),
+            )
+        };
+        let mut counts: HashMap<(&str, &str), usize> = HashMap::new();
         for t in &self.transitions {
-            *counts.entry(t.label.clone()).or_default() += 1;
+            *counts.entry(plain(t)).or_default() += 1;
         }
         for t in &mut self.transitions {
-            if counts.get(&t.label).copied().unwrap_or(0) > 1 {
-                if let Some(p) = t.priority.or(t.explicit) {
-                    t.label = format!("{} (prio {p})", t.label);
-                }
-            }
+            t.shared_label = counts.get(&plain(t)).copied().unwrap_or(0) > 1;
         }
     }
 }
@@ -305,151 +490,22 @@ impl GraphModel {
 // Public for the formatter, which writes implicit priorities out (`tooling.md` §2a).
 #[allow(dead_code)]
 pub fn effective_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
-    GraphModel::new(graph)
-        .transitions
-        .iter()
-        .map(|t| t.priority)
-        .collect()
+    let facts: Vec<MemberFacts> = graph
+        .body()
+        .into_iter()
+        .flat_map(|b| b.syntax().children())
+        .map(|m| MemberFacts::of(&m))
+        .collect();
+    let model = GraphModel::new(
+        String::new(),
+        facts.iter().map(|f| (TextSize::from(0), f)),
+        false,
+    );
+    model.transitions.iter().map(|t| t.priority).collect()
 }
 
 /// A number without leading zeros.
-fn number_key(text: &str) -> String {
+fn number_key(text: &str) -> &str {
     let trimmed = text.trim_start_matches('0');
-    if trimmed.is_empty() {
-        "0".to_owned()
-    } else {
-        trimmed.to_owned()
-    }
-}
-
-fn state_entry(node: ast::State) -> Option<StateEntry> {
-    let number = node.number()?;
-    let keyword = node.syntax().first_token()?;
-    let header = TextRange::new(keyword.text_range().start(), number.text_range().end());
-    Some(StateEntry {
-        key: number_key(number.text()),
-        value: number.text().parse().ok(),
-        header,
-        number,
-        node,
-        first: None,
-    })
-}
-
-fn endpoint_entry(node: ast::Endpoint) -> Option<EndpointEntry> {
-    let token = node.token()?;
-    let (end, text) = match node.kind()? {
-        ast::EndpointKind::Any => (End::Any, "any".to_owned()),
-        ast::EndpointKind::Return => (End::Return, "return".to_owned()),
-        ast::EndpointKind::State => (End::State(number_key(token.text())), token.text().into()),
-    };
-    Some(EndpointEntry { end, node, text })
-}
-
-fn trans_entry(
-    node: ast::Trans,
-    states: &HashMap<String, usize>,
-    declares_init_sd: bool,
-) -> TransEntry {
-    let source = node.source().and_then(endpoint_entry);
-    let target = node.target().and_then(endpoint_entry);
-    let header = match (node.syntax().first_token(), &target) {
-        (Some(keyword), Some(target)) => Some(TextRange::new(
-            keyword.text_range().start(),
-            target.node.syntax().text_range().end(),
-        )),
-        _ => None,
-    };
-    let prio_clause = node.prio();
-    let explicit = prio_clause
-        .as_ref()
-        .and_then(|p| p.value())
-        .map(|v| v.text().parse::<u64>().unwrap_or(u64::MAX));
-    // A state's range holds its normal and return transitions; `s->any` is in none (HG2104).
-    let range = match (&source, &target, header) {
-        (Some(s), Some(t), Some(_)) => match (&s.end, &t.end) {
-            (End::Any, _) => Some(PrioRange::Any),
-            (End::State(key), End::State(_) | End::Return) => {
-                states.get(key).map(|&i| PrioRange::State(i))
-            }
-            _ => None,
-        },
-        _ => None,
-    };
-    let startup = source.as_ref().is_some_and(|s| s.end == End::Any)
-        && !declares_init_sd
-        && condition_statements(&node).any(|s| queries_init_sd(&s));
-    let label = format!(
-        "{}->{}",
-        source.as_ref().map_or("?", |e| e.text.as_str()),
-        target.as_ref().map_or("?", |e| e.text.as_str())
-    );
-    let attributes = attributes(node.attributes());
-    let empty_condition = !condition_statements(&node).any(|s| s.opcode().is_some());
-    TransEntry {
-        attributes,
-        empty_condition,
-        source,
-        target,
-        header,
-        prio_clause,
-        explicit,
-        range,
-        priority: None,
-        startup,
-        label,
-    }
-}
-
-/// The condition part of a transition (§2.6): the statements before the first label and every
-/// `?:` block.
-pub(crate) fn condition_statements(trans: &ast::Trans) -> impl Iterator<Item = ast::StlStmt> {
-    trans
-        .body()
-        .into_iter()
-        .flat_map(|b| b.blocks())
-        .filter(|b| b.label().is_none_or(|l| l.name() == "?"))
-        .flat_map(|b| b.statements())
-}
-
-/// Does the graph declare a variable of this name (any section)?
-fn declares_variable(graph: &ast::Graph, name: &str) -> bool {
-    graph
-        .var_sections()
-        .flat_map(|s| s.decls())
-        .filter_map(|d| d.name())
-        .any(|n| n.text().eq_ignore_ascii_case(name))
-}
-
-/// Does a statement have an operand `INIT_SD` or `#INIT_SD` (the predefined variable, as the
-/// graph declares no variable of that name)? Statements that are not analysed (jump labels,
-/// operations of neither mnemonic set: C4) do not count.
-fn queries_init_sd(stmt: &ast::StlStmt) -> bool {
-    if stmt.jump_label().is_some() {
-        return false;
-    }
-    let Some(opcode) = stmt.opcode() else {
-        return false;
-    };
-    let op = opcode.text();
-    if !lang::is_subset_op(&op, Mnemonic::Simatic)
-        && !lang::is_subset_op(&op, Mnemonic::International)
-    {
-        return false;
-    }
-    let params = stmt
-        .call_args()
-        .into_iter()
-        .flat_map(|a| a.params())
-        .filter_map(|p| p.value());
-    stmt.operand().into_iter().chain(params).any(|operand| {
-        let name = match operand {
-            ast::Operand::NameRef(n) => n.token(),
-            ast::Operand::VarRef(v) => v.name(),
-            _ => None,
-        };
-        name.is_some_and(|t| {
-            t.kind() == SyntaxKind::IDENT && t.text().eq_ignore_ascii_case("INIT_SD")
-        })
-    })
+    if trimmed.is_empty() { "0" } else { trimmed }
 }

@@ -4,8 +4,6 @@
 
 use std::collections::HashMap;
 
-use higraph_syntax::ast::AstNode;
-
 use super::model::{GraphModel, PrioRange, TransEntry};
 use crate::rules::Ctx;
 
@@ -13,9 +11,9 @@ use crate::rules::Ctx;
 const MAX_PRIORITY: u64 = 65535;
 
 /// Runs the priority and transition rules.
-pub(super) fn check(ctx: &mut Ctx<'_>, model: &GraphModel) {
-    for range in model.ranges() {
-        check_duplicates(ctx, model, range);
+pub(super) fn check(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
+    for (range, members) in model.ranges() {
+        check_duplicates(ctx, model, *range, members);
     }
     for t in &model.transitions {
         check_range(ctx, t);
@@ -26,12 +24,17 @@ pub(super) fn check(ctx: &mut Ctx<'_>, model: &GraphModel) {
 }
 
 /// HG2301 and HG2302: two explicit priorities of one range are equal.
-fn check_duplicates(ctx: &mut Ctx<'_>, model: &GraphModel, range: PrioRange) {
+fn check_duplicates(
+    ctx: &mut Ctx<'_>,
+    model: &GraphModel<'_>,
+    range: PrioRange,
+    members: &[usize],
+) {
     let mut first: HashMap<u64, usize> = HashMap::new();
-    let free = model.lowest_free_priority(range);
-    for i in model.range_members(range) {
+    let mut free = None;
+    for &i in members {
         let t = &model.transitions[i];
-        let (Some(p), Some(clause)) = (t.explicit, &t.prio_clause) else {
+        let (Some(p), Some(at)) = (t.explicit, t.prio_range()) else {
             continue;
         };
         let Some(&earlier) = first.get(&p) else {
@@ -39,29 +42,31 @@ fn check_duplicates(ctx: &mut Ctx<'_>, model: &GraphModel, range: PrioRange) {
             continue;
         };
         let other = &model.transitions[earlier];
-        let written = prio_text(t);
+        let written = t.prio_text();
+        let free = *free.get_or_insert_with(|| model.lowest_free_priority(range));
         let (code, message) = match range {
             PrioRange::Any => (
                 "HG2302",
                 format!(
                     "any-transition {}: priority {written} is already used by {}",
-                    t.label, other.label
+                    t.label(),
+                    other.label()
                 ),
             ),
             PrioRange::State(_) => (
                 "HG2301",
                 format!(
                     "transition {}: priority {written} is already used by {}",
-                    t.label, other.label
+                    t.label(),
+                    other.label()
                 ),
             ),
         };
-        let at = clause.syntax().text_range();
         let mut diag = ctx.diag(code, at, message);
-        if let Some(other_clause) = &other.prio_clause {
+        if let Some(other_clause) = other.prio_range() {
             diag = diag.related(
-                ctx.loc(other_clause.syntax().text_range()),
-                format!("priority {} of {}", prio_text(other), other.label),
+                ctx.loc(other_clause),
+                format!("priority {} of {}", other.prio_text(), other.label()),
             );
         }
         let diag = diag.fix(
@@ -74,31 +79,19 @@ fn check_duplicates(ctx: &mut Ctx<'_>, model: &GraphModel, range: PrioRange) {
 }
 
 /// The explicit priority as written.
-fn prio_text(t: &TransEntry) -> String {
-    t.prio_clause
-        .as_ref()
-        .and_then(|c| c.value())
-        .map(|v| v.text().to_owned())
-        .unwrap_or_default()
-}
-
 /// HG2303: an explicit priority outside 1..65535 (on the prio clause), or an implicit one
 /// above 65535 (on the header).
-fn check_range(ctx: &mut Ctx<'_>, t: &TransEntry) {
+fn check_range(ctx: &mut Ctx<'_>, t: &TransEntry<'_>) {
     let message = |p: &str| format!("priority {p} is outside 1..{MAX_PRIORITY} (1 is the highest)");
-    match (t.explicit, &t.prio_clause) {
+    match (t.explicit, t.prio_range()) {
         (Some(p), Some(clause)) => {
             if !(1..=MAX_PRIORITY).contains(&p) {
-                let diag = ctx.diag(
-                    "HG2303",
-                    clause.syntax().text_range(),
-                    message(&prio_text(t)),
-                );
+                let diag = ctx.diag("HG2303", clause, message(t.prio_text()));
                 ctx.push(diag);
             }
         }
         _ => {
-            if let (Some(p), Some(header)) = (t.priority, t.header)
+            if let (Some(p), Some(header)) = (t.priority, t.header())
                 && p > MAX_PRIORITY
             {
                 let diag = ctx.diag("HG2303", header, message(&p.to_string()));
@@ -109,26 +102,29 @@ fn check_range(ctx: &mut Ctx<'_>, t: &TransEntry) {
 }
 
 /// HG2304: a normal transition back to its own source state.
-fn check_self_loop(ctx: &mut Ctx<'_>, t: &TransEntry) {
-    let Some(header) = t.header else {
+fn check_self_loop(ctx: &mut Ctx<'_>, t: &TransEntry<'_>) {
+    let Some(header) = t.header() else {
         return;
     };
     if t.is_normal() && t.source_end() == t.target_end() {
-        let message = format!("transition {} leads back to its own source state", t.label);
+        let message = format!(
+            "transition {} leads back to its own source state",
+            t.label()
+        );
         let diag = ctx.diag("HG2304", header, message);
         ctx.push(diag);
     }
 }
 
 /// HG2305: an any-transition with an empty condition.
-fn check_unconditional_any(ctx: &mut Ctx<'_>, t: &TransEntry) {
-    let Some(header) = t.header else {
+fn check_unconditional_any(ctx: &mut Ctx<'_>, t: &TransEntry<'_>) {
+    let Some(header) = t.header() else {
         return;
     };
-    if t.is_any() && t.empty_condition {
+    if t.is_any() && t.empty_condition() {
         let message = format!(
             "any-transition {} has no condition and fires in every cycle",
-            t.label
+            t.label()
         );
         let diag = ctx.diag("HG2305", header, message);
         ctx.push(diag);
@@ -137,20 +133,19 @@ fn check_unconditional_any(ctx: &mut Ctx<'_>, t: &TransEntry) {
 
 /// Can a transition always fire when it is checked: an empty condition and no `auto`,
 /// `manual` or `waits`?
-fn always_fires(t: &TransEntry) -> bool {
-    t.empty_condition && !t.has("auto") && !t.has("manual") && !t.has("waits")
+fn always_fires(t: &TransEntry<'_>) -> bool {
+    t.empty_condition() && !t.has("auto") && !t.has("manual") && !t.has("waits")
 }
 
 /// HG2306: a normal or return transition checked after an unconditional one of its state.
-fn check_shadowed(ctx: &mut Ctx<'_>, model: &GraphModel) {
-    for range in model.ranges() {
+fn check_shadowed(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
+    for (range, members) in model.ranges() {
         let PrioRange::State(_) = range else {
             continue;
         };
-        let members: Vec<&TransEntry> = model
-            .range_members(range)
-            .into_iter()
-            .map(|i| &model.transitions[i])
+        let members: Vec<&TransEntry> = members
+            .iter()
+            .map(|&i| &model.transitions[i])
             .filter(|t| t.is_normal() || t.is_return())
             .collect();
         // The unconditional transition checked first shadows every later one.
@@ -163,7 +158,7 @@ fn check_shadowed(ctx: &mut Ctx<'_>, model: &GraphModel) {
             continue;
         };
         for t in &members {
-            let (Some(p), Some(header)) = (t.priority, t.header) else {
+            let (Some(p), Some(header)) = (t.priority, t.header()) else {
                 continue;
             };
             if p <= q {
@@ -171,11 +166,12 @@ fn check_shadowed(ctx: &mut Ctx<'_>, model: &GraphModel) {
             }
             let message = format!(
                 "transition {} can never fire: {} (priority {q}) has no condition and is checked first",
-                t.label, u.label
+                t.label(),
+                u.label()
             );
             let mut diag = ctx.diag("HG2306", header, message);
-            if let Some(u_header) = u.header {
-                diag = diag.related(ctx.loc(u_header), format!("{} has no condition", u.label));
+            if let Some(u_header) = u.header() {
+                diag = diag.related(ctx.loc(u_header), format!("{} has no condition", u.label()));
             }
             ctx.push(diag);
         }

@@ -13,7 +13,7 @@ use super::{
 use crate::{lang, rules::Ctx};
 
 /// Runs the startup and reachability rules.
-pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
+pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
     if model.startups().next().is_none() {
         missing_startup(ctx, graph, model);
     } else {
@@ -24,7 +24,7 @@ pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
 }
 
 /// HG2201, with the fix that inserts a startup transition.
-fn missing_startup(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
+fn missing_startup(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
     let Some(name) = graph.name().and_then(|n| n.token()) else {
         return;
     };
@@ -67,29 +67,30 @@ fn member_insertion(graph: &ast::Graph, member: &str) -> Option<(TextRange, Stri
 }
 
 /// HG2202 and HG2203.
-fn check_startups(ctx: &mut Ctx<'_>, model: &GraphModel) {
-    let mut first: Option<(&str, Option<TextRange>)> = None;
+fn check_startups(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
+    let mut first: Option<(String, Option<TextRange>)> = None;
     for t in model.startups() {
-        for (word, attr) in &t.attributes {
-            if !matches!(word.as_str(), "auto" | "manual" | "waits") {
+        for attr in t.attributes() {
+            let word = attr.word;
+            if !matches!(word, "auto" | "manual" | "waits") {
                 continue;
             }
             let message = format!(
                 "the startup transition has '{word}', so a restart may not initialise graph {}",
                 model.name
             );
-            let diag = ctx.diag("HG2203", attr.syntax().text_range(), message).fix(
+            let diag = ctx.diag("HG2203", attr.range, message).fix(
                 format!("Remove '{word}'"),
-                ctx.loc(edit::removal_range(attr.syntax())),
+                ctx.loc(attr.removal),
                 "",
             );
             ctx.push(diag);
         }
-        let Some((first_label, first_header)) = first else {
-            first = Some((&t.label, t.header));
+        let Some((first_label, first_header)) = &first else {
+            first = Some((t.label(), t.header()));
             continue;
         };
-        let Some(header) = t.header else {
+        let Some(header) = t.header() else {
             continue;
         };
         let message = format!(
@@ -97,7 +98,7 @@ fn check_startups(ctx: &mut Ctx<'_>, model: &GraphModel) {
             model.name
         );
         let mut diag = ctx.diag("HG2202", header, message);
-        if let Some(first_header) = first_header {
+        if let Some(first_header) = *first_header {
             diag = diag.related(
                 ctx.loc(first_header),
                 format!("the first startup transition {first_label}"),
@@ -109,40 +110,33 @@ fn check_startups(ctx: &mut Ctx<'_>, model: &GraphModel) {
 
 /// HG2401: states outside the closure of the initial states and any-transition targets over
 /// normal transitions.
-fn check_reachability(ctx: &mut Ctx<'_>, model: &GraphModel) {
+fn check_reachability(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
     let Some(first) = model.startups().next() else {
         return;
     };
-    if model.existing(first.target_end()).is_none() {
+    if first.target_state.is_none() {
         return;
     }
-    let initial_text = first.target.as_ref().map_or("", |e| e.text.as_str());
+    let initial_text = first.target.as_ref().map_or("", |e| e.text);
+    // Breadth-first from the targets of the any-transitions along normal transitions.
+    let mut successors: Vec<Vec<usize>> = vec![Vec::new(); model.states.len()];
+    for t in model.transitions.iter().filter(|t| t.is_normal()) {
+        if let (Some(from), Some(to)) = (t.source_state, t.target_state) {
+            successors[from].push(to);
+        }
+    }
     let mut reached: BTreeSet<usize> = model
         .transitions
         .iter()
         .filter(|t| t.is_any())
-        .filter_map(|t| model.existing(t.target_end()))
+        .filter_map(|t| t.target_state)
         .collect();
-    let edges: Vec<(usize, usize)> = model
-        .transitions
-        .iter()
-        .filter(|t| t.is_normal())
-        .filter_map(|t| {
-            Some((
-                model.existing(t.source_end())?,
-                model.existing(t.target_end())?,
-            ))
-        })
-        .collect();
-    loop {
-        let before = reached.len();
-        for &(from, to) in &edges {
-            if reached.contains(&from) {
-                reached.insert(to);
+    let mut queue: Vec<usize> = reached.iter().copied().collect();
+    while let Some(state) = queue.pop() {
+        for &next in &successors[state] {
+            if reached.insert(next) {
+                queue.push(next);
             }
-        }
-        if reached.len() == before {
-            break;
         }
     }
     for (i, state) in model.states.iter().enumerate() {
@@ -151,32 +145,45 @@ fn check_reachability(ctx: &mut Ctx<'_>, model: &GraphModel) {
         }
         let message = format!(
             "state {} cannot be reached from the initial state {initial_text}",
-            state.number.text()
+            state.number()
         );
-        let diag = ctx.diag("HG2401", state.header, message);
+        let diag = ctx.diag("HG2401", state.header(), message);
         ctx.push(diag);
     }
 }
 
 /// HG2402: a state that only a restart leaves.
-fn check_dead_ends(ctx: &mut Ctx<'_>, model: &GraphModel) {
+fn check_dead_ends(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
+    // A way out of state i: a normal transition from i to another state, a return
+    // transition from i, or a non-startup any-transition to another state.
+    let mut any_targets: Vec<usize> = Vec::new();
+    let mut way_out = vec![false; model.states.len()];
+    for t in &model.transitions {
+        if t.is_any() && !t.startup {
+            if let Some(target) = t.target_state {
+                if !any_targets.contains(&target) {
+                    any_targets.push(target);
+                }
+            }
+        }
+        let Some(source) = t.source_state else {
+            continue;
+        };
+        if t.is_return() || (t.is_normal() && t.target_state.is_some_and(|s| s != source)) {
+            way_out[source] = true;
+        }
+    }
     for (i, state) in model.states.iter().enumerate() {
         if state.first.is_some() {
             continue;
         }
-        let way_out = model.transitions.iter().any(|t| {
-            let from_here = model.existing(t.source_end()) == Some(i);
-            let target = model.existing(t.target_end());
-            (t.is_normal() && from_here && target.is_some_and(|s| s != i))
-                || (t.is_return() && from_here)
-                || (t.is_any() && !t.startup && target.is_some_and(|s| s != i))
-        });
-        if !way_out {
+        let by_any = any_targets.iter().any(|&s| s != i);
+        if !way_out[i] && !by_any {
             let message = format!(
                 "state {} has no way out; only a restart leaves it",
-                state.number.text()
+                state.number()
             );
-            let diag = ctx.diag("HG2402", state.header, message);
+            let diag = ctx.diag("HG2402", state.header(), message);
             ctx.push(diag);
         }
     }

@@ -4,12 +4,9 @@
 
 use std::collections::BTreeSet;
 
-use higraph_syntax::{ast, ast::AstNode};
+use higraph_syntax::ast;
 
-use super::{
-    edit,
-    model::{End, GraphModel, attributes},
-};
+use super::model::{End, GraphModel};
 use crate::rules::Ctx;
 
 /// At most this many states per graph (HG2001).
@@ -20,27 +17,31 @@ const MAX_TRANSITIONS: usize = 4090;
 const MISSING_SHOWN: usize = 5;
 
 /// Runs the structure rules.
-pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
+pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
     check_limits(ctx, model);
     check_state_numbers(ctx, model);
     check_endpoints(ctx, model);
     check_numbering(ctx, graph, model);
-    check_repeated_attributes(ctx, graph);
+    check_repeated_attributes(ctx, model);
 }
 
 /// HG2001 and HG2002, each once, on the first element beyond the limit.
-fn check_limits(ctx: &mut Ctx<'_>, model: &GraphModel) {
+fn check_limits(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
     let graph = &model.name;
     if let Some(state) = model.states.get(MAX_STATES) {
         let n = model.states.len();
         let diag = ctx.diag(
             "HG2001",
-            state.header,
+            state.header(),
             format!("graph {graph} has {n} states; at most {MAX_STATES} are allowed"),
         );
         ctx.push(diag);
     }
-    let headers: Vec<_> = model.transitions.iter().filter_map(|t| t.header).collect();
+    let headers: Vec<_> = model
+        .transitions
+        .iter()
+        .filter_map(|t| t.header())
+        .collect();
     if let Some(&header) = headers.get(MAX_TRANSITIONS) {
         let n = headers.len();
         let diag = ctx.diag(
@@ -53,12 +54,12 @@ fn check_limits(ctx: &mut Ctx<'_>, model: &GraphModel) {
 }
 
 /// HG2101 and HG2102.
-fn check_state_numbers(ctx: &mut Ctx<'_>, model: &GraphModel) {
+fn check_state_numbers(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
     let used: BTreeSet<u64> = model.states.iter().filter_map(|s| s.value).collect();
     let free = (0..).find(|n| !used.contains(n)).unwrap_or(0);
     for state in &model.states {
-        let number = state.number.text();
-        let range = state.number.text_range();
+        let number = state.number();
+        let range = state.number_range();
         if let Some(first) = state.first.and_then(|i| model.states.get(i)) {
             let diag = ctx
                 .diag(
@@ -70,8 +71,8 @@ fn check_state_numbers(ctx: &mut Ctx<'_>, model: &GraphModel) {
                     ),
                 )
                 .related(
-                    ctx.loc(first.header),
-                    format!("first state {}", first.number.text()),
+                    ctx.loc(first.header()),
+                    format!("first state {}", first.number()),
                 )
                 .fix(
                     format!("Renumber to {free}"),
@@ -92,16 +93,20 @@ fn check_state_numbers(ctx: &mut Ctx<'_>, model: &GraphModel) {
 }
 
 /// HG2103 and HG2104.
-fn check_endpoints(ctx: &mut Ctx<'_>, model: &GraphModel) {
+fn check_endpoints(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
     for t in &model.transitions {
-        let any_to_return = t.is_any() && t.target_end() == Some(&End::Return);
-        for (endpoint, is_source) in [(&t.source, true), (&t.target, false)] {
+        let any_to_return = t.is_any() && t.target_end() == Some(End::Return);
+        let ends = [
+            (&t.source, t.source_state, true),
+            (&t.target, t.target_state, false),
+        ];
+        for (endpoint, state, is_source) in ends {
             let Some(endpoint) = endpoint else {
                 continue;
             };
-            let range = endpoint.node.syntax().text_range();
-            let message = match &endpoint.end {
-                End::State(key) if model.state(key).is_none() => format!(
+            let range = endpoint.range;
+            let message = match endpoint.end {
+                End::State(_) if state.is_none() => format!(
                     "state {} does not exist in graph {}",
                     endpoint.text, model.name
                 ),
@@ -123,7 +128,7 @@ fn check_endpoints(ctx: &mut Ctx<'_>, model: &GraphModel) {
 }
 
 /// HG2105: the distinct state numbers are not 0..n−1.
-fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
+fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
     let Some(name) = graph.name().and_then(|n| n.token()) else {
         return;
     };
@@ -157,16 +162,15 @@ fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
     for state in model.states.iter().filter(|s| s.in_range()) {
         if let Some(new) = state.value.and_then(renumbered) {
             if state.value != Some(new as u64) {
-                edits.push((ctx.loc(state.number.text_range()), new.to_string()));
+                edits.push((ctx.loc(state.number_range()), new.to_string()));
             }
         }
     }
     for t in &model.transitions {
-        for endpoint in [&t.source, &t.target].into_iter().flatten() {
-            let End::State(key) = &endpoint.end else {
-                continue;
-            };
-            let Some(state) = model.state(key).and_then(|i| model.states.get(i)) else {
+        let ends = [(&t.source, t.source_state), (&t.target, t.target_state)];
+        for (endpoint, state) in ends {
+            let (Some(endpoint), Some(state)) = (endpoint, state.and_then(|i| model.states.get(i)))
+            else {
                 continue;
             };
             if !state.in_range() {
@@ -174,10 +178,7 @@ fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
             }
             if let Some(new) = state.value.and_then(renumbered) {
                 if state.value != Some(new as u64) || endpoint.text != new.to_string() {
-                    edits.push((
-                        ctx.loc(endpoint.node.syntax().text_range()),
-                        new.to_string(),
-                    ));
+                    edits.push((ctx.loc(endpoint.range), new.to_string()));
                 }
             }
         }
@@ -189,27 +190,24 @@ fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel) {
 }
 
 /// HG2106: an attribute repeated in one state or transition header.
-fn check_repeated_attributes(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
-    let headers = graph
-        .states()
-        .map(|s| attributes(s.attributes()))
-        .chain(graph.transitions().map(|t| attributes(t.attributes())));
-    for attrs in headers {
+fn check_repeated_attributes(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
+    for attrs in &model.headers {
         let mut seen: Vec<&str> = Vec::new();
-        for (word, attr) in &attrs {
-            if !seen.contains(&word.as_str()) {
+        for attr in attrs {
+            let word = attr.word;
+            if !seen.contains(&word) {
                 seen.push(word);
                 continue;
             }
             let diag = ctx
                 .diag(
                     "HG2106",
-                    attr.syntax().text_range(),
+                    attr.range,
                     format!("attribute '{word}' is given twice"),
                 )
                 .fix(
                     format!("Remove the repeated '{word}'"),
-                    ctx.loc(edit::removal_range(attr.syntax())),
+                    ctx.loc(attr.removal),
                     "",
                 );
             ctx.push(diag);
