@@ -294,6 +294,32 @@ pub fn member_facts<'db>(db: &'db dyn salsa::Database, member: Member<'db>) -> M
     MemberFacts::of(&member.green(db).root())
 }
 
+/// What a graph declares (the scope its operands resolve in), without uses.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn graph_scope<'db>(
+    db: &'db dyn salsa::Database,
+    item: ItemLoc<'db>,
+) -> Option<crate::resolve::GraphScope> {
+    match item_root(db, item).and_then(ast::Item::cast) {
+        Some(ast::Item::Graph(graph)) => Some(crate::resolve::GraphScope::new(&graph)),
+        _ => None,
+    }
+}
+
+/// The STL rules' findings in one member of a graph item. Keyed by the member's green node,
+/// so a keystroke elsewhere in the graph finds it again; `label_prio` is the priority the
+/// member's transition label shows, if any (§2.3).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn member_stl<'db>(
+    db: &'db dyn salsa::Database,
+    ws: Workspace,
+    item: ItemLoc<'db>,
+    member: Member<'db>,
+    label_prio: Option<u64>,
+) -> rules::stl::MemberStl {
+    rules::check_member_stl(db, ws, item, member, label_prio)
+}
+
 /// The item's syntax tree, rooted at the item (offsets relative to the item's start).
 pub fn item_root(db: &dyn salsa::Database, item: ItemLoc<'_>) -> Option<SyntaxNode> {
     item_syntax(db, item).map(|green| SyntaxNode::new_root(green.0))

@@ -13,6 +13,10 @@ pub struct Loc {
     /// The item whose start `range` is relative to; `None` for a range relative to the file.
     pub item: Option<u32>,
     pub range: TextRange,
+    /// `range` is relative to the graph member being analysed, not yet to the item: the
+    /// per-member analyses ([`crate::db::member_stl`]) do not know where their member stands.
+    /// [`Diag::place_member`] resolves it; no such `Loc` leaves the item's analysis.
+    pub in_member: bool,
 }
 
 impl Loc {
@@ -21,6 +25,7 @@ impl Loc {
             file,
             item: Some(item),
             range,
+            in_member: false,
         }
     }
 
@@ -29,6 +34,30 @@ impl Loc {
             file,
             item: None,
             range,
+            in_member: false,
+        }
+    }
+
+    /// A place relative to the member being analysed (see [`Loc::in_member`]).
+    pub fn in_member(file: File, item: u32, range: TextRange) -> Loc {
+        Loc {
+            file,
+            item: Some(item),
+            range,
+            in_member: true,
+        }
+    }
+
+    /// Resolves a member-relative place, given the member's offset in its item.
+    fn placed(self, member_offset: higraph_syntax::TextSize) -> Loc {
+        if self.in_member {
+            Loc {
+                range: self.range + member_offset,
+                in_member: false,
+                ..self
+            }
+        } else {
+            self
         }
     }
 }
@@ -76,6 +105,20 @@ impl Diag {
             edits: vec![(at, new_text.into())],
         });
         self
+    }
+
+    /// The diagnostic with every member-relative place made relative to the item, the
+    /// member standing at `member_offset` in it.
+    pub fn place_member(&self, member_offset: higraph_syntax::TextSize) -> Diag {
+        let mut diag = self.clone();
+        diag.at = diag.at.placed(member_offset);
+        for (loc, _) in &mut diag.related {
+            *loc = loc.placed(member_offset);
+        }
+        for (loc, _) in diag.fixes.iter_mut().flat_map(|f| &mut f.edits) {
+            *loc = loc.placed(member_offset);
+        }
+        diag
     }
 
     /// A fix with several edits.

@@ -7,6 +7,8 @@
 
 use higraph_syntax::TextSize;
 
+mod edit;
+
 /// How the columns of a [`Position`] are counted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum PositionEncoding {

@@ -36,7 +36,7 @@ use crate::{
 // ------------------------------------------------------------------------------ scope
 
 /// A name in the graph's `activate` list.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct ActivatedName {
     /// The name as written.
     pub text: String,
@@ -48,7 +48,7 @@ pub(crate) struct ActivatedName {
 }
 
 /// What a graph declares, and which declarations its operands use.
-#[derive(Debug)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct GraphScope {
     /// The graph's name as declared.
     pub name: String,
@@ -689,11 +689,11 @@ fn inactive_variable(
 fn activate_edit(ctx: &Ctx<'_>, scope: &GraphScope, name: &str) -> Vec<(crate::diag::Loc, String)> {
     if let Some(last) = scope.activated.last() {
         let at = TextRange::empty(last.range.end());
-        return vec![(ctx.loc(at), format!(", {name}"))];
+        return vec![(ctx.item_loc(at), format!(", {name}"))];
     }
     scope
         .activate_insert
-        .map(|at| vec![(ctx.loc(TextRange::empty(at)), format!(" activate {name};"))])
+        .map(|at| vec![(ctx.item_loc(TextRange::empty(at)), format!(" activate {name};"))])
         .unwrap_or_default()
 }
 
@@ -750,7 +750,7 @@ fn in_declaration_edit(
     } else {
         format!("{name} : {ty}; ")
     };
-    Some((ctx.loc(TextRange::empty(at)), text))
+    Some((ctx.item_loc(TextRange::empty(at)), text))
 }
 
 /// HG1104: a reference spelled in another letter case than its declaration.

@@ -239,6 +239,7 @@ pub(crate) fn item_uses<'db>(
             mnemonic: db::file_mnemonic(db, ws, file),
             index: db::global_index(db, ws),
             out: ItemAnalysis::default(),
+            in_member: false,
         },
         uses: Vec::new(),
     };

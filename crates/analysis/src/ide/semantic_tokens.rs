@@ -324,6 +324,7 @@ impl<'a> Resolver<'a> {
             mnemonic: db::file_mnemonic(db, ws, file),
             index,
             out: ItemAnalysis::default(),
+            in_member: false,
         };
         match ast::Item::cast(node.clone()) {
             Some(ast::Item::Graph(graph)) => Resolver::Graph {

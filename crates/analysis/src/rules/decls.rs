@@ -49,7 +49,7 @@ impl Owner {
 const INTERFACE_TYPES: &[&str] = &["POINTER", "ANY", "BLOCK_FC", "BLOCK_FB", "BLOCK_DB"];
 
 /// A declared variable.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct Var {
     /// As declared.
     pub name: String,

@@ -21,6 +21,7 @@ use higraph_syntax::{SyntaxKind, SyntaxNode, TextRange, ast};
 
 use crate::{
     db::{self, File, ItemLoc, Workspace},
+    rules::graph::facts::MemberFacts,
     diag::{Diag, Loc},
     index::GlobalIndex,
     lang::Mnemonic,
@@ -52,11 +53,24 @@ pub(crate) struct Ctx<'a> {
     pub mnemonic: Mnemonic,
     pub index: &'a GlobalIndex,
     pub out: ItemAnalysis,
+    /// Are the syntax nodes being checked rooted at a graph member rather than at the item?
+    /// Then [`Ctx::loc`] makes member-relative places.
+    pub in_member: bool,
 }
 
 impl Ctx<'_> {
-    /// A place in the current item.
+    /// A place in the tree being checked: the current item, or the current graph member.
     pub fn loc(&self, range: TextRange) -> Loc {
+        if self.in_member {
+            Loc::in_member(self.file, self.item, range)
+        } else {
+            Loc::in_item(self.file, self.item, range)
+        }
+    }
+
+    /// A place relative to the item, also while a member is being checked (for positions the
+    /// graph's scope knows, such as where a new declaration goes).
+    pub fn item_loc(&self, range: TextRange) -> Loc {
         Loc::in_item(self.file, self.item, range)
     }
 
@@ -90,6 +104,23 @@ impl Ctx<'_> {
     }
 }
 
+impl<'a> Ctx<'a> {
+    /// The context for checking `item`.
+    fn for_item(db: &'a dyn salsa::Database, ws: Workspace, item: ItemLoc<'_>) -> Ctx<'a> {
+        let file = item.file(db);
+        Ctx {
+            db,
+            ws,
+            file,
+            item: item.index(db),
+            mnemonic: db::file_mnemonic(db, ws, file),
+            index: db::global_index(db, ws),
+            out: ItemAnalysis::default(),
+            in_member: false,
+        }
+    }
+}
+
 pub(crate) fn check_item(
     db: &dyn salsa::Database,
     ws: Workspace,
@@ -98,33 +129,9 @@ pub(crate) fn check_item(
     let Some(root) = db::item_root(db, item) else {
         return ItemAnalysis::default();
     };
-    let file = item.file(db);
-    let mut ctx = Ctx {
-        db,
-        ws,
-        file,
-        item: item.index(db),
-        mnemonic: db::file_mnemonic(db, ws, file),
-        index: db::global_index(db, ws),
-        out: ItemAnalysis::default(),
-    };
+    let mut ctx = Ctx::for_item(db, ws, item);
     match ast::Item::cast(root) {
-        Some(ast::Item::Graph(graph)) => {
-            names::check_graph(&mut ctx, &graph);
-            let layout = db::graph_layout(db, item);
-            let facts = layout
-                .offsets
-                .iter()
-                .zip(&layout.members)
-                .map(|(&offset, &member)| (offset, db::member_facts(db, member)));
-            let model = graph::GraphModel::new(
-                graph.name().map(|n| n.text()).unwrap_or_default(),
-                facts,
-                graph::declares_variable(&graph, "INIT_SD"),
-            );
-            graph::check(&mut ctx, &graph, &model);
-            stl::check(&mut ctx, &graph);
-        }
+        Some(ast::Item::Graph(graph)) => check_graph(&mut ctx, item, &graph),
         Some(ast::Item::Group(group)) => {
             names::check_group(&mut ctx, &group);
             group::check(&mut ctx, &group);
@@ -145,6 +152,67 @@ pub(crate) fn check_item(
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
     ctx.out
+}
+
+/// A graph: its names and declarations from its own tree; its structure from the cached facts
+/// of its members ([`db::member_facts`]); its STL member by member ([`db::member_stl`]), so
+/// that an edit in one member re-analyses that member only.
+fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
+    let db = ctx.db;
+    names::check_graph(ctx, graph);
+    let layout = db::graph_layout(db, item);
+    let facts: Vec<&MemberFacts> = layout
+        .members
+        .iter()
+        .map(|&member| db::member_facts(db, member))
+        .collect();
+    let model = graph::GraphModel::new(
+        graph.name().map(|n| n.text()).unwrap_or_default(),
+        layout.offsets.iter().copied().zip(facts.iter().copied()),
+        graph::declares_variable(graph, "INIT_SD"),
+    );
+    graph::check(ctx, graph, &model);
+
+    let Some(scope) = db::graph_scope(db, item) else {
+        return;
+    };
+    let mut scope = scope.clone();
+    let mut label_prios = stl::transition_label_priorities(facts.iter().copied()).into_iter();
+    for ((&member, &offset), facts) in layout.members.iter().zip(&layout.offsets).zip(&facts) {
+        let label_prio = match facts {
+            MemberFacts::Trans(_) => label_prios.next().flatten(),
+            MemberFacts::State(_) | MemberFacts::Permanent { .. } => None,
+            MemberFacts::Other => continue,
+        };
+        let found = db::member_stl(db, ctx.ws, item, member, label_prio);
+        ctx.out
+            .diags
+            .extend(found.diags.iter().map(|d| d.place_member(offset)));
+        for (used, here) in scope.used_vars.iter_mut().zip(&found.used_vars) {
+            *used |= *here;
+        }
+        scope.used_predefined.extend(found.used_predefined.iter().copied());
+        ctx.out
+            .used_symbols
+            .extend(found.used_symbols.iter().cloned());
+    }
+    stl::report_unused_in_graph(ctx, &scope);
+}
+
+/// The STL analysis of one member of a graph item ([`db::member_stl`]).
+pub(crate) fn check_member_stl(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    item: ItemLoc<'_>,
+    member: db::Member<'_>,
+    label_prio: Option<u64>,
+) -> stl::MemberStl {
+    let Some(scope) = db::graph_scope(db, item) else {
+        return stl::MemberStl::default();
+    };
+    let mut ctx = Ctx::for_item(db, ws, item);
+    ctx.in_member = true;
+    stl::check_member(&mut ctx, scope, &member.green(db).root(), label_prio)
 }
 
 /// Does the node contain an error node? A construct with a syntax error gets no diagnostics of

@@ -32,39 +32,62 @@ pub(crate) fn operand_access(op: &str, ty: Option<crate::lang::Type>) -> Access 
     statement::OperandRule::of(op).access(ty)
 }
 
-/// Checks the STL of one graph: every state, transition and `permanent` body, then HG1210.
-pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
-    let mut scope = GraphScope::new(graph);
-    let labels = transitions::labels(graph);
-    let mut transition = 0;
-    for member in graph.members() {
-        match member {
-            ast::GraphMember::State(state) => {
-                let number = state
-                    .number()
-                    .map(|t| t.text().to_owned())
-                    .unwrap_or_default();
-                if let Some(body) = state.body() {
-                    check_body(ctx, &mut scope, &body, &BodyKind::State { number });
-                }
-            }
-            ast::GraphMember::Trans(trans) => {
-                let label = labels.get(transition).cloned().unwrap_or_default();
-                transition += 1;
-                if let Some(body) = trans.body() {
-                    check_body(ctx, &mut scope, &body, &BodyKind::Transition { label });
-                }
-            }
-            ast::GraphMember::Permanent(permanent) => {
-                if let Some(body) = permanent.body() {
-                    check_body(ctx, &mut scope, &body, &BodyKind::Permanent);
-                }
-            }
-            ast::GraphMember::VarSection(_) | ast::GraphMember::Activate(_) => {}
-        }
-    }
-    report_unused(ctx, &scope);
+/// What the STL rules found in one member of a graph ([`crate::db::member_stl`]).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct MemberStl {
+    /// Places relative to the member, except where the graph's scope put them (see
+    /// [`crate::diag::Loc::in_member`]).
+    pub diags: Vec<crate::diag::Diag>,
+    /// Per declared variable of the graph (in declaration order): used here?
+    pub used_vars: Vec<bool>,
+    /// The predefined variables some operand here resolves to, sorted.
+    pub used_predefined: Vec<&'static str>,
+    /// The global symbols used here (for HG6004).
+    pub used_symbols: std::collections::BTreeSet<String>,
 }
+
+/// Checks the STL of one member of a graph, rooted at the member (`ctx.in_member`).
+/// `label_prio` is the transition's priority when its label needs one (§2.3, see
+/// [`transition_label_priorities`]).
+pub(crate) fn check_member(
+    ctx: &mut Ctx<'_>,
+    scope: &GraphScope,
+    member: &higraph_syntax::SyntaxNode,
+    label_prio: Option<u64>,
+) -> MemberStl {
+    let mut scope = scope.clone();
+    if let Some(state) = ast::State::cast(member.clone()) {
+        let number = state
+            .number()
+            .map(|t| t.text().to_owned())
+            .unwrap_or_default();
+        if let Some(body) = state.body() {
+            check_body(ctx, &mut scope, &body, &BodyKind::State { number });
+        }
+    } else if let Some(trans) = ast::Trans::cast(member.clone()) {
+        let label = transitions::label(&trans, label_prio);
+        if let Some(body) = trans.body() {
+            check_body(ctx, &mut scope, &body, &BodyKind::Transition { label });
+        }
+    } else if let Some(body) = ast::Permanent::cast(member.clone()).and_then(|p| p.body()) {
+        check_body(ctx, &mut scope, &body, &BodyKind::Permanent);
+    }
+    let mut used_predefined: Vec<&'static str> = scope.used_predefined.into_iter().collect();
+    used_predefined.sort_unstable();
+    MemberStl {
+        diags: std::mem::take(&mut ctx.out.diags),
+        used_vars: scope.used_vars,
+        used_predefined,
+        used_symbols: std::mem::take(&mut ctx.out.used_symbols),
+    }
+}
+
+/// HG1210 for a graph, once the uses of every member are merged into `scope`.
+pub(crate) fn report_unused_in_graph(ctx: &mut Ctx<'_>, scope: &GraphScope) {
+    report_unused(ctx, scope);
+}
+
+pub(crate) use transitions::label_priorities as transition_label_priorities;
 
 /// Which kind of instruction body is being checked.
 enum BodyKind {

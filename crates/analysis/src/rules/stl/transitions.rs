@@ -6,31 +6,74 @@ use std::collections::{HashMap, HashSet};
 
 use higraph_syntax::{ast, ast::EndpointKind};
 
-/// One label per transition of `graph`, in text order.
-pub(super) fn labels(graph: &ast::Graph) -> Vec<String> {
-    let states: HashSet<u64> = graph
-        .states()
-        .filter_map(|s| s.number())
-        .filter_map(|t| t.text().parse::<u64>().ok())
+use crate::rules::graph::facts::{EndFact, EndpointFact, MemberFacts};
+
+/// The label of a transition: its plain label, with ` (prio {p})` if `prio` is given.
+pub(crate) fn label(trans: &ast::Trans, prio: Option<u64>) -> String {
+    let plain = plain_label(trans);
+    match prio {
+        Some(p) => format!("{plain} (prio {p})"),
+        None => plain,
+    }
+}
+
+/// For every transition among `members` (in text order): its effective priority if another
+/// transition has the same plain label, else `None` — what [`label`] needs.
+pub(crate) fn label_priorities<'a>(
+    members: impl IntoIterator<Item = &'a MemberFacts> + Clone,
+) -> Vec<Option<u64>> {
+    let states: HashSet<u64> = members
+        .clone()
+        .into_iter()
+        .filter_map(|m| match m {
+            MemberFacts::State(s) => s.number.as_ref()?.parse::<u64>().ok(),
+            _ => None,
+        })
         .filter(|n| *n <= 65535)
         .collect();
-    let transitions: Vec<ast::Trans> = graph.transitions().collect();
-    let plain: Vec<String> = transitions.iter().map(plain_label).collect();
-    let priorities = effective_priorities(&transitions, &states);
-    let mut count: HashMap<&str, usize> = HashMap::new();
-    for label in &plain {
-        *count.entry(label.as_str()).or_default() += 1;
-    }
-    plain
-        .iter()
-        .zip(&priorities)
-        .map(|(label, prio)| match prio {
-            Some(p) if count.get(label.as_str()).copied().unwrap_or(0) > 1 => {
-                format!("{label} (prio {p})")
-            }
-            _ => label.clone(),
+    let transitions: Vec<&crate::rules::graph::facts::TransFacts> = members
+        .into_iter()
+        .filter_map(|m| match m {
+            MemberFacts::Trans(t) => Some(t),
+            _ => None,
         })
+        .collect();
+    let plain: Vec<(&str, &str)> = transitions
+        .iter()
+        .map(|t| (end_key(t.source.as_ref()), end_key(t.target.as_ref())))
+        .collect();
+    let mut count: HashMap<(&str, &str), usize> = HashMap::new();
+    for key in &plain {
+        *count.entry(*key).or_default() += 1;
+    }
+    let explicit: Vec<Option<u64>> = transitions
+        .iter()
+        .map(|t| t.prio.as_ref()?.value.as_ref()?.parse::<u64>().ok())
+        .collect();
+    let ranges: Vec<Option<Range>> = transitions
+        .iter()
+        .map(|t| range_of(t.source.as_ref()?, &states))
+        .collect();
+    effective_priorities(&ranges, &explicit)
+        .into_iter()
+        .zip(&plain)
+        .map(|(prio, key)| prio.filter(|_| count.get(key).copied().unwrap_or(0) > 1))
         .collect()
+}
+
+/// An endpoint as labels show it, for counting equal labels: a number without leading
+/// zeros (as written if it does not fit a `u64`), `any`, `return`, or `?`.
+fn end_key(end: Option<&EndpointFact>) -> &str {
+    match end.map(|e| &e.end) {
+        Some(EndFact::State(text)) if text.parse::<u64>().is_ok() => {
+            let trimmed = text.trim_start_matches('0');
+            if trimmed.is_empty() { "0" } else { trimmed }
+        }
+        Some(EndFact::State(text)) => text,
+        Some(EndFact::Any) => "any",
+        Some(EndFact::Return) => "return",
+        None => "?",
+    }
 }
 
 /// `4->1`, `any->0`, `3->return`.
@@ -58,13 +101,12 @@ enum Range {
     Any,
 }
 
-fn range_of(trans: &ast::Trans, states: &HashSet<u64>) -> Option<Range> {
-    let source = trans.source()?;
-    match source.kind()? {
-        EndpointKind::Any => Some(Range::Any),
-        EndpointKind::Return => None,
-        EndpointKind::State => {
-            let n = source.token()?.text().parse::<u64>().ok()?;
+fn range_of(source: &EndpointFact, states: &HashSet<u64>) -> Option<Range> {
+    match &source.end {
+        EndFact::Any => Some(Range::Any),
+        EndFact::Return => None,
+        EndFact::State(text) => {
+            let n = text.parse::<u64>().ok()?;
             states.contains(&n).then_some(Range::State(n))
         }
     }
@@ -72,25 +114,16 @@ fn range_of(trans: &ast::Trans, states: &HashSet<u64>) -> Option<Range> {
 
 /// The effective priority of every transition (§2.6); `None` outside any range without an
 /// explicit `prio`.
-fn effective_priorities(transitions: &[ast::Trans], states: &HashSet<u64>) -> Vec<Option<u64>> {
-    let explicit: Vec<Option<u64>> = transitions
-        .iter()
-        .map(|t| {
-            t.prio()
-                .and_then(|p| p.value())
-                .and_then(|v| v.text().parse::<u64>().ok())
-        })
-        .collect();
-    let ranges: Vec<Option<Range>> = transitions.iter().map(|t| range_of(t, states)).collect();
+fn effective_priorities(ranges: &[Option<Range>], explicit: &[Option<u64>]) -> Vec<Option<u64>> {
     let mut used: HashMap<Range, HashSet<u64>> = HashMap::new();
-    for (range, prio) in ranges.iter().zip(&explicit) {
+    for (range, prio) in ranges.iter().zip(explicit) {
         if let (Some(range), Some(prio)) = (range, prio) {
             used.entry(*range).or_default().insert(*prio);
         }
     }
     let mut highest: HashMap<Range, u64> = HashMap::new();
-    let mut out = Vec::with_capacity(transitions.len());
-    for (range, prio) in ranges.iter().zip(&explicit) {
+    let mut out = Vec::with_capacity(ranges.len());
+    for (range, prio) in ranges.iter().zip(explicit) {
         let Some(range) = range else {
             out.push(*prio);
             continue;
@@ -115,25 +148,35 @@ fn effective_priorities(transitions: &[ast::Trans], states: &HashSet<u64>) -> Ve
 
 #[cfg(test)]
 mod tests {
-    use higraph_syntax::ast;
+    use higraph_syntax::{ast, ast::AstNode};
 
-    use super::labels;
+    use super::{label, label_priorities};
+    use crate::rules::graph::facts::MemberFacts;
 
-    fn graph(text: &str) -> ast::Graph {
-        match higraph_syntax::parse(text).tree().items().next() {
-            Some(ast::Item::Graph(g)) => g,
-            _ => panic!("no graph"),
-        }
+    fn labels(text: &str) -> Vec<String> {
+        let Some(ast::Item::Graph(graph)) = higraph_syntax::parse(text).tree().items().next()
+        else {
+            panic!("no graph");
+        };
+        let members: Vec<_> = graph
+            .body()
+            .into_iter()
+            .flat_map(|b| b.syntax().children())
+            .collect();
+        let facts: Vec<MemberFacts> = members.iter().map(MemberFacts::of).collect();
+        let transitions = members.iter().filter_map(|m| ast::Trans::cast(m.clone()));
+        transitions
+            .zip(label_priorities(&facts))
+            .map(|(t, prio)| label(&t, prio))
+            .collect()
     }
 
     #[test]
     fn duplicate_labels_get_their_priority() {
-        let g = graph(
-            "graph G < state 0 < > state 1 < > trans 0->1 < > trans 0->1 prio 1 < > \
-             trans 1->0 < > trans any->0 < > >",
-        );
+        let g = "graph G < state 0 < > state 1 < > trans 0->1 < > trans 0->1 prio 1 < > \
+             trans 1->0 < > trans any->0 < > >";
         assert_eq!(
-            labels(&g),
+            labels(g),
             vec!["0->1 (prio 2)", "0->1 (prio 1)", "1->0", "any->0"]
         );
     }
