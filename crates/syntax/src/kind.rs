@@ -307,73 +307,64 @@ impl SyntaxKind {
     }
 
     /// The keyword kind for a (case-insensitive) word, if the word is a keyword somewhere.
+    ///
+    /// The parser asks this for every identifier, so the candidates are found by length and
+    /// first letter before any text is compared.
     pub fn from_keyword(word: &str) -> Option<SyntaxKind> {
-        // Lower-case into a stack buffer: keywords are short ASCII words.
-        let mut buffer = [0u8; 16];
-        if word.len() > buffer.len() || !word.is_ascii() {
-            return None;
-        }
-        let lower = &mut buffer[..word.len()];
-        lower.copy_from_slice(word.as_bytes());
-        lower.make_ascii_lowercase();
-        let kw = match std::str::from_utf8(lower).unwrap_or("") {
-            "mnemonic" => MNEMONIC_KW,
-            "simatic" => SIMATIC_KW,
-            "international" => INTERNATIONAL_KW,
-            "graph" => GRAPH_KW,
-            "group" => GROUP_KW,
-            "chart" => CHART_KW,
-            "symbols" => SYMBOLS_KW,
-            "block" => BLOCK_KW,
-            "in" => IN_KW,
-            "out" => OUT_KW,
-            "in_out" => IN_OUT_KW,
-            "stat" => STAT_KW,
-            "msg" => MSG_KW,
-            "activate" => ACTIVATE_KW,
-            "permanent" => PERMANENT_KW,
-            "state" => STATE_KW,
-            "fault" => FAULT_KW,
-            "message" => MESSAGE_KW,
-            "wait" => WAIT_KW,
-            "supervise" => SUPERVISE_KW,
-            "trans" => TRANS_KW,
-            "any" => ANY_KW,
-            "return" => RETURN_KW,
-            "prio" => PRIO_KW,
-            "auto" => AUTO_KW,
-            "manual" => MANUAL_KW,
-            "waits" => WAITS_KW,
-            "fc" => FC_KW,
-            "db" => DB_KW,
-            "option" => OPTION_KW,
-            "instance" => INSTANCE_KW,
-            "type" => TYPE_KW,
-            "mode" => MODE_KW,
-            "switching" => SWITCHING_KW,
-            "run" => RUN_KW,
-            "sequencer" => SEQUENCER_KW,
-            "start" => START_KW,
-            "pre" => PRE_KW,
-            "post" => POST_KW,
-            "step" => STEP_KW,
-            "init" => INIT_KW,
-            "term" => TERM_KW,
-            "min" => MIN_KW,
-            "max" => MAX_KW,
-            "confirm" => CONFIRM_KW,
-            "parallel" => PARALLEL_KW,
-            "alt" => ALT_KW,
-            "branch" => BRANCH_KW,
-            "jump" => JUMP_KW,
-            "loop" => LOOP_KW,
-            "and" => AND_KW,
-            "or" => OR_KW,
-            "xor" => XOR_KW,
-            "not" => NOT_KW,
+        let &first = word.as_bytes().first()?;
+        let candidates: &[(&str, SyntaxKind)] = match (word.len(), first.to_ascii_lowercase()) {
+            (2, b'd') => &[("db", DB_KW)],
+            (2, b'f') => &[("fc", FC_KW)],
+            (2, b'i') => &[("in", IN_KW)],
+            (2, b'o') => &[("or", OR_KW)],
+            (3, b'a') => &[("any", ANY_KW), ("alt", ALT_KW), ("and", AND_KW)],
+            (3, b'm') => &[("msg", MSG_KW), ("min", MIN_KW), ("max", MAX_KW)],
+            (3, b'n') => &[("not", NOT_KW)],
+            (3, b'o') => &[("out", OUT_KW)],
+            (3, b'p') => &[("pre", PRE_KW)],
+            (3, b'r') => &[("run", RUN_KW)],
+            (3, b'x') => &[("xor", XOR_KW)],
+            (4, b'a') => &[("auto", AUTO_KW)],
+            (4, b'i') => &[("init", INIT_KW)],
+            (4, b'j') => &[("jump", JUMP_KW)],
+            (4, b'l') => &[("loop", LOOP_KW)],
+            (4, b'm') => &[("mode", MODE_KW)],
+            (4, b'p') => &[("prio", PRIO_KW), ("post", POST_KW)],
+            (4, b's') => &[("stat", STAT_KW), ("step", STEP_KW)],
+            (4, b't') => &[("type", TYPE_KW), ("term", TERM_KW)],
+            (4, b'w') => &[("wait", WAIT_KW)],
+            (5, b'b') => &[("block", BLOCK_KW)],
+            (5, b'c') => &[("chart", CHART_KW)],
+            (5, b'f') => &[("fault", FAULT_KW)],
+            (5, b'g') => &[("graph", GRAPH_KW), ("group", GROUP_KW)],
+            (5, b's') => &[("state", STATE_KW), ("start", START_KW)],
+            (5, b't') => &[("trans", TRANS_KW)],
+            (5, b'w') => &[("waits", WAITS_KW)],
+            (6, b'b') => &[("branch", BRANCH_KW)],
+            (6, b'i') => &[("in_out", IN_OUT_KW)],
+            (6, b'm') => &[("manual", MANUAL_KW)],
+            (6, b'o') => &[("option", OPTION_KW)],
+            (6, b'r') => &[("return", RETURN_KW)],
+            (7, b'c') => &[("confirm", CONFIRM_KW)],
+            (7, b'm') => &[("message", MESSAGE_KW)],
+            (7, b's') => &[("simatic", SIMATIC_KW), ("symbols", SYMBOLS_KW)],
+            (8, b'a') => &[("activate", ACTIVATE_KW)],
+            (8, b'i') => &[("instance", INSTANCE_KW)],
+            (8, b'm') => &[("mnemonic", MNEMONIC_KW)],
+            (8, b'p') => &[("parallel", PARALLEL_KW)],
+            (9, b'p') => &[("permanent", PERMANENT_KW)],
+            (9, b's') => &[
+                ("supervise", SUPERVISE_KW),
+                ("switching", SWITCHING_KW),
+                ("sequencer", SEQUENCER_KW),
+            ],
+            (13, b'i') => &[("international", INTERNATIONAL_KW)],
             _ => return None,
         };
-        Some(kw)
+        candidates
+            .iter()
+            .find(|(keyword, _)| keyword.eq_ignore_ascii_case(word))
+            .map(|&(_, kind)| kind)
     }
 }
 

@@ -18,33 +18,87 @@ pub struct Token<'a> {
 
 /// Splits `text` into tokens. The concatenation of the tokens' texts is `text`.
 pub fn tokenize(text: &str) -> Vec<Token<'_>> {
-    let mut tokens: Vec<Token<'_>> = Vec::new();
-    let mut rest_start = 0;
-    if text.starts_with('\u{FEFF}') {
+    // Tokens average more than three bytes; a little slack saves most reallocations.
+    let mut tokens = Vec::with_capacity(text.len() / 3 + 16);
+    tokens.extend(Tokens::new(text));
+    tokens
+}
+
+/// The tokens of a text, in order (what [`tokenize`] collects; the parser consumes them
+/// directly).
+pub(crate) struct Tokens<'a> {
+    lexer: logos::Lexer<'a, SyntaxKind>,
+    /// Offset of the lexer's input in the text (after a byte-order mark).
+    base: usize,
+    text: &'a str,
+    /// A token to return before lexing on: the byte-order mark, or the token that ended a run
+    /// of unlexable characters.
+    pending: Option<Token<'a>>,
+}
+
+impl<'a> Tokens<'a> {
+    pub(crate) fn new(text: &'a str) -> Tokens<'a> {
         // A leading byte-order mark is trivia.
-        let bom = '\u{FEFF}'.len_utf8();
-        tokens.push(Token {
-            kind: SyntaxKind::WHITESPACE,
-            text: &text[..bom],
-        });
-        rest_start = bom;
-    }
-    let rest = &text[rest_start..];
-    let mut lexer = SyntaxKind::lexer(rest);
-    while let Some(result) = lexer.next() {
-        let span = lexer.span();
-        let slice = &rest[span.clone()];
-        let kind = result.unwrap_or(SyntaxKind::LEX_ERROR);
-        match tokens.last_mut() {
-            // One token per run of unlexable characters.
-            Some(last) if kind == SyntaxKind::LEX_ERROR && last.kind == SyntaxKind::LEX_ERROR => {
-                let start = last.text.as_ptr() as usize - text.as_ptr() as usize;
-                last.text = &text[start..rest_start + span.end];
-            }
-            _ => tokens.push(Token { kind, text: slice }),
+        let bom = if text.starts_with('\u{FEFF}') {
+            '\u{FEFF}'.len_utf8()
+        } else {
+            0
+        };
+        Tokens {
+            lexer: SyntaxKind::lexer(&text[bom..]),
+            base: bom,
+            text,
+            pending: (bom > 0).then(|| Token {
+                kind: SyntaxKind::WHITESPACE,
+                text: &text[..bom],
+            }),
         }
     }
-    tokens
+}
+
+impl<'a> Iterator for Tokens<'a> {
+    type Item = Token<'a>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Token<'a>> {
+        if let Some(token) = self.pending.take() {
+            return Some(token);
+        }
+        // One token per run of unlexable characters: the run ends at the next lexable token.
+        let mut error_start = None;
+        loop {
+            match self.lexer.next() {
+                Some(Ok(kind)) => {
+                    let token = Token {
+                        kind,
+                        text: self.lexer.slice(),
+                    };
+                    let Some(start) = error_start else {
+                        return Some(token);
+                    };
+                    self.pending = Some(token);
+                    let end = self.base + self.lexer.span().start;
+                    return Some(self.error_token(start, end));
+                }
+                Some(Err(())) => {
+                    error_start.get_or_insert(self.base + self.lexer.span().start);
+                }
+                None => {
+                    let end = self.text.len();
+                    return error_start.map(|start| self.error_token(start, end));
+                }
+            }
+        }
+    }
+}
+
+impl<'a> Tokens<'a> {
+    fn error_token(&self, start: usize, end: usize) -> Token<'a> {
+        Token {
+            kind: SyntaxKind::LEX_ERROR,
+            text: &self.text[start..end],
+        }
+    }
 }
 
 /// Diagnostics that a single token carries on its own: unclosed strings and character

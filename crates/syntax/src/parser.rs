@@ -10,6 +10,7 @@
 //! rule C1 of `diagnostics.md`), and every `<` that is closed by recovery or by the end of the
 //! file reports HG0003.
 
+mod builder;
 mod chart;
 pub(crate) mod fragment;
 mod graph;
@@ -17,7 +18,11 @@ mod group;
 mod items;
 mod stl;
 
-use rowan::{Checkpoint, GreenNode, GreenNodeBuilder, TextRange, TextSize};
+use std::fmt;
+
+use rowan::{GreenNode, TextRange, TextSize};
+
+use builder::{Checkpoint, TreeBuilder};
 
 use crate::{
     SyntaxError, SyntaxKind,
@@ -31,6 +36,21 @@ pub(crate) fn parse(text: &str) -> (GreenNode, Vec<SyntaxError>) {
     let mut p = Parser::new(text);
     items::source_file(&mut p);
     p.finish()
+}
+
+/// A description for a diagnostic message that is formatted only if the message is made:
+/// the parser names every construct and element it enters, but almost all of them parse
+/// without a message. `lazy(|f| write!(f, "state {number}"))`.
+pub(crate) struct Lazy<F>(F);
+
+pub(crate) fn lazy<F: Fn(&mut fmt::Formatter<'_>) -> fmt::Result>(f: F) -> Lazy<F> {
+    Lazy(f)
+}
+
+impl<F: Fn(&mut fmt::Formatter<'_>) -> fmt::Result> fmt::Display for Lazy<F> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        (self.0)(f)
+    }
 }
 
 /// Marker for "end of input" in lookahead.
@@ -51,74 +71,98 @@ pub(crate) enum Scope {
     Chart,
 }
 
+/// A significant token, with what the grammar asks about it precomputed.
+#[derive(Debug, Clone, Copy)]
+struct Significant<'t> {
+    text: &'t str,
+    offset: TextSize,
+    /// Number of trivia tokens before this token: the trivia up to here precedes it.
+    trivia_end: u32,
+    kind: SyntaxKind,
+    /// For an identifier spelled like a keyword (ASCII case-insensitively), that keyword;
+    /// `IDENT` for every other token.
+    keyword: SyntaxKind,
+    /// Is there a line break between this token and the previous significant one?
+    newline_before: bool,
+    /// Does this token follow the previous significant token with nothing at all in between?
+    joined: bool,
+}
+
 pub(crate) struct Parser<'t> {
-    tokens: Vec<Token<'t>>,
-    offsets: Vec<TextSize>,
-    /// Indices into `tokens` of the significant tokens.
-    significant: Vec<usize>,
-    /// For each significant token: is there a line break between it and the previous one?
-    newline_before: Vec<bool>,
-    /// For each significant token: does it follow the previous significant token with
-    /// nothing at all in between?
-    joined: Vec<bool>,
+    /// The significant tokens, in order.
+    significant: Vec<Significant<'t>>,
+    /// White space, comments and unlexable characters, in order.
+    trivia: Vec<Token<'t>>,
     /// Position in `significant`.
     pos: usize,
-    /// Tokens in `tokens` before this index are already in the tree.
-    emitted: usize,
+    /// Trivia tokens before this index are already in the tree.
+    trivia_emitted: usize,
     /// End of the last significant token added to the tree.
     last_end: TextSize,
     text_len: TextSize,
-    builder: GreenNodeBuilder<'static>,
+    builder: TreeBuilder<'t>,
     errors: Vec<SyntaxError>,
 }
 
 impl<'t> Parser<'t> {
     fn new(text: &'t str) -> Parser<'t> {
-        let tokens = lexer::tokenize(text);
-        let mut offsets = Vec::with_capacity(tokens.len());
+        // Capacity for a significant token per four bytes and a trivia token per five: more
+        // than typical files need (reallocating these large vectors costs more than unused
+        // capacity, which is never touched).
+        let mut significant = Vec::with_capacity(text.len() / 4 + 16);
+        let mut trivia = Vec::with_capacity(text.len() / 5 + 16);
         let mut errors = Vec::new();
         let mut offset = TextSize::from(0);
-        let mut significant = Vec::new();
-        let mut newline_before = Vec::new();
-        let mut joined = Vec::new();
         let mut saw_newline = false;
         let mut adjacent = false;
-        for (i, token) in tokens.iter().enumerate() {
-            offsets.push(offset);
+        for token in lexer::Tokens::new(text) {
             // Only a few kinds can carry an error of their own; skip the call for the rest.
             if matches!(token.kind, STRING | CHAR | LEX_ERROR)
                 || (matches!(token.kind, IDENT | TYPED_CONST) && !token.text.is_ascii())
             {
-                lexer::token_errors(*token, offset, &mut errors);
+                lexer::token_errors(token, offset, &mut errors);
             }
+            let start = offset;
             offset += TextSize::of(token.text);
             match token.kind {
                 WHITESPACE | COMMENT | LEX_ERROR => {
-                    if token.text.contains(['\n', '\r']) {
+                    // Comments end before the line break, and unlexable runs never hold one.
+                    if token.kind == WHITESPACE
+                        && token.text.bytes().any(|b| b == b'\n' || b == b'\r')
+                    {
                         saw_newline = true;
                     }
                     adjacent = false;
+                    trivia.push(token);
                 }
-                _ => {
-                    significant.push(i);
-                    newline_before.push(saw_newline);
-                    joined.push(adjacent);
+                kind => {
+                    let keyword = if kind == IDENT {
+                        SyntaxKind::from_keyword(token.text).unwrap_or(IDENT)
+                    } else {
+                        IDENT
+                    };
+                    significant.push(Significant {
+                        text: token.text,
+                        offset: start,
+                        trivia_end: trivia.len() as u32,
+                        kind,
+                        keyword,
+                        newline_before: saw_newline,
+                        joined: adjacent,
+                    });
                     saw_newline = false;
                     adjacent = true;
                 }
             }
         }
         Parser {
-            tokens,
-            offsets,
             significant,
-            newline_before,
-            joined,
+            trivia,
             pos: 0,
-            emitted: 0,
+            trivia_emitted: 0,
             last_end: TextSize::from(0),
             text_len: offset,
-            builder: GreenNodeBuilder::new(),
+            builder: TreeBuilder::new(),
             errors,
         }
     }
@@ -127,59 +171,88 @@ impl<'t> Parser<'t> {
         (self.builder.finish(), self.errors)
     }
 
-    // ------------------------------------------------------------------ lookahead
-
-    /// Kind of the `n`th significant token from the current position (`EOF` past the end).
-    pub(crate) fn nth(&self, n: usize) -> SyntaxKind {
-        self.significant
-            .get(self.pos + n)
-            .map_or(EOF, |&i| self.tokens[i].kind)
+    /// Does the text begin with a significant token (no leading trivia)?
+    pub(crate) fn starts_with_significant(&self) -> bool {
+        self.significant.first().is_some_and(|s| s.trivia_end == 0)
     }
 
+    /// Is every token, trivia included, in the tree?
+    pub(crate) fn all_emitted(&self) -> bool {
+        self.at_eof() && self.trivia_emitted == self.trivia.len()
+    }
+
+    // ------------------------------------------------------------------ lookahead
+
+    #[inline]
+    fn nth_token(&self, n: usize) -> Option<&Significant<'t>> {
+        self.significant.get(self.pos + n)
+    }
+
+    /// Kind of the `n`th significant token from the current position (`EOF` past the end).
+    #[inline]
+    pub(crate) fn nth(&self, n: usize) -> SyntaxKind {
+        self.nth_token(n).map_or(EOF, |t| t.kind)
+    }
+
+    #[inline]
     pub(crate) fn current(&self) -> SyntaxKind {
         self.nth(0)
     }
 
+    #[inline]
     pub(crate) fn nth_text(&self, n: usize) -> &'t str {
-        self.significant
-            .get(self.pos + n)
-            .map_or("", |&i| self.tokens[i].text)
+        self.nth_token(n).map_or("", |t| t.text)
     }
 
+    #[inline]
     pub(crate) fn at(&self, kind: SyntaxKind) -> bool {
         self.current() == kind
     }
 
+    #[inline]
     pub(crate) fn at_eof(&self) -> bool {
         self.pos >= self.significant.len()
     }
 
-    /// Is the `n`th token an identifier spelled `word` (ASCII case-insensitively)?
+    /// Is the `n`th token an identifier spelled `word` (ASCII case-insensitively)? For
+    /// keywords, [`Parser::nth_is_kw`] is cheaper.
     pub(crate) fn nth_is_word(&self, n: usize, word: &str) -> bool {
-        self.nth(n) == IDENT && self.nth_text(n).eq_ignore_ascii_case(word)
+        self.nth_token(n)
+            .is_some_and(|t| t.kind == IDENT && t.text.eq_ignore_ascii_case(word))
     }
 
     pub(crate) fn at_word(&self, word: &str) -> bool {
         self.nth_is_word(0, word)
     }
 
+    /// Is the `n`th token an identifier spelled like the keyword `kw` (`STATE_KW` for
+    /// `state`, `State`, ...)?
+    #[inline]
+    pub(crate) fn nth_is_kw(&self, n: usize, kw: SyntaxKind) -> bool {
+        self.nth_token(n).is_some_and(|t| t.keyword == kw)
+    }
+
+    #[inline]
+    pub(crate) fn at_kw(&self, kw: SyntaxKind) -> bool {
+        self.nth_is_kw(0, kw)
+    }
+
     /// Does the `n`th token follow the `n-1`th with nothing between them?
+    #[inline]
     pub(crate) fn nth_joined(&self, n: usize) -> bool {
-        self.joined.get(self.pos + n).copied().unwrap_or(false)
+        self.nth_token(n).is_some_and(|t| t.joined)
     }
 
     /// Is there a line break before the `n`th token? (End of file counts as a new line.)
+    #[inline]
     pub(crate) fn nth_on_new_line(&self, n: usize) -> bool {
-        self.newline_before
-            .get(self.pos + n)
-            .copied()
-            .unwrap_or(true)
+        self.nth_token(n).is_none_or(|t| t.newline_before)
     }
 
     /// Range of the `n`th significant token, or the empty range at the end of the input.
     pub(crate) fn nth_range(&self, n: usize) -> TextRange {
-        match self.significant.get(self.pos + n) {
-            Some(&i) => TextRange::at(self.offsets[i], TextSize::of(self.tokens[i].text)),
+        match self.nth_token(n) {
+            Some(t) => TextRange::at(t.offset, TextSize::of(t.text)),
             None => TextRange::empty(self.text_len),
         }
     }
@@ -205,23 +278,22 @@ impl<'t> Parser<'t> {
         let upto = self
             .significant
             .get(self.pos)
-            .copied()
-            .unwrap_or(self.tokens.len());
-        while self.emitted < upto {
-            let token = self.tokens[self.emitted];
-            self.builder.token(token.kind.into(), token.text);
-            self.emitted += 1;
+            .map_or(self.trivia.len(), |t| t.trivia_end as usize);
+        while self.trivia_emitted < upto {
+            let token = self.trivia[self.trivia_emitted];
+            self.builder.token(token.kind, token.text);
+            self.trivia_emitted += 1;
         }
     }
 
     /// Starts the root node; leading trivia belongs to it.
     pub(crate) fn start_root(&mut self) {
-        self.builder.start_node(SOURCE_FILE.into());
+        self.builder.start_node(SOURCE_FILE);
     }
 
     pub(crate) fn start(&mut self, kind: SyntaxKind) {
         self.flush_trivia();
-        self.builder.start_node(kind.into());
+        self.builder.start_node(kind);
     }
 
     pub(crate) fn finish_node(&mut self) {
@@ -234,7 +306,7 @@ impl<'t> Parser<'t> {
     }
 
     pub(crate) fn start_at(&mut self, checkpoint: Checkpoint, kind: SyntaxKind) {
-        self.builder.start_node_at(checkpoint, kind.into());
+        self.builder.start_node_at(checkpoint, kind);
     }
 
     /// Adds the current token to the tree.
@@ -245,26 +317,23 @@ impl<'t> Parser<'t> {
 
     /// Adds the current token to the tree with another kind (keywords).
     pub(crate) fn bump_as(&mut self, kind: SyntaxKind) {
-        if self.at_eof() {
+        let Some(&token) = self.significant.get(self.pos) else {
             return;
-        }
+        };
         self.flush_trivia();
-        let i = self.significant[self.pos];
-        let token = self.tokens[i];
         if matches!(token.kind, TYPED_CONST | CHAR) {
             // Typed and character constants are checked wherever they stand (HG0006/HG0007).
-            let range = TextRange::at(self.offsets[i], TextSize::of(token.text));
+            let range = TextRange::at(token.offset, TextSize::of(token.text));
             validation::check_constant_token(token.kind, token.text, range, &mut self.errors);
         }
-        self.builder.token(kind.into(), token.text);
-        self.emitted = i + 1;
-        self.last_end = self.offsets[i] + TextSize::of(token.text);
+        self.builder.token(kind, token.text);
+        self.last_end = token.offset + TextSize::of(token.text);
         self.pos += 1;
     }
 
     /// Adds the current identifier as the keyword of its spelling.
     pub(crate) fn bump_keyword(&mut self) {
-        let kind = SyntaxKind::from_keyword(self.nth_text(0)).unwrap_or(IDENT);
+        let kind = self.nth_token(0).map_or(IDENT, |t| t.keyword);
         self.bump_as(kind);
     }
 
@@ -305,7 +374,7 @@ impl<'t> Parser<'t> {
     }
 
     /// HG0002: the element is complete but its `;` is missing.
-    pub(crate) fn error_missing_semi(&mut self, element: &str) {
+    pub(crate) fn error_missing_semi(&mut self, element: &dyn fmt::Display) {
         let at = TextRange::empty(self.last_end);
         self.errors.push(
             SyntaxError::new(
@@ -318,7 +387,7 @@ impl<'t> Parser<'t> {
     }
 
     /// HG0003 for the `<` at `open`.
-    pub(crate) fn error_unclosed(&mut self, open: TextRange, construct: &str) {
+    pub(crate) fn error_unclosed(&mut self, open: TextRange, construct: &dyn fmt::Display) {
         let stop = TextRange::empty(self.last_end);
         self.errors.push(
             SyntaxError::new(
@@ -400,7 +469,11 @@ impl<'t> Parser<'t> {
     /// consumes the `;`; or reports HG0002 when the next token is `>`, the end of file, a block
     /// label, on a later line, or can begin a new element (`can_begin`); or reports HG0001 and
     /// recovers.
-    pub(crate) fn expect_semi(&mut self, element: &str, can_begin: fn(&Parser<'_>) -> bool) {
+    pub(crate) fn expect_semi(
+        &mut self,
+        element: &dyn fmt::Display,
+        can_begin: fn(&Parser<'_>) -> bool,
+    ) {
         if self.at(SEMI) {
             self.bump();
         } else if self.at_eof()
@@ -416,7 +489,7 @@ impl<'t> Parser<'t> {
     }
 
     /// Expects the `<` of a body; returns its range (for HG0003) or `None` after an error.
-    pub(crate) fn expect_open(&mut self, what: &str) -> Option<TextRange> {
+    pub(crate) fn expect_open(&mut self, what: &dyn fmt::Display) -> Option<TextRange> {
         if self.at(L_ANGLE) {
             let range = self.nth_range(0);
             self.bump();
@@ -436,62 +509,54 @@ impl<'t> Parser<'t> {
 
     /// An item keyword that, at statement start, closes every open block (language.md §1.4).
     pub(crate) fn at_item_start(&self) -> bool {
-        if self.current() != IDENT {
+        let Some(token) = self.nth_token(0) else {
             return false;
-        }
-        let word = self.nth_text(0);
+        };
         let next = self.nth(1);
-        let is = |w: &str| word.eq_ignore_ascii_case(w);
-        if is("graph") || is("group") || is("chart") || is("block") {
-            matches!(next, IDENT | STRING)
-        } else if is("symbols") {
-            next == L_ANGLE
-        } else if is("mnemonic") {
-            self.nth_is_word(1, "simatic") || self.nth_is_word(1, "international")
-        } else {
-            false
+        match token.keyword {
+            GRAPH_KW | GROUP_KW | CHART_KW | BLOCK_KW => matches!(next, IDENT | STRING),
+            SYMBOLS_KW => next == L_ANGLE,
+            MNEMONIC_KW => self.nth_is_kw(1, SIMATIC_KW) || self.nth_is_kw(1, INTERNATIONAL_KW),
+            _ => false,
         }
     }
 
     /// A member keyword of `scope` at statement start (language.md §1.4).
     pub(crate) fn at_member_start(&self, scope: Scope) -> bool {
-        if self.current() != IDENT {
+        let Some(token) = self.nth_token(0) else {
             return false;
-        }
+        };
         let next = self.nth(1);
-        let is = |w: &str| self.at_word(w);
-        match scope {
-            Scope::Graph => {
-                (is("state") && next == NUMBER)
-                    || (is("trans")
-                        && (next == NUMBER
-                            || self.nth_is_word(1, "any")
-                            || self.nth_is_word(1, "return")))
-                    || is("activate")
-                    || ((is("permanent") || is("in") || is("out") || is("in_out") || is("stat"))
-                        && next == L_ANGLE)
+        match (scope, token.keyword) {
+            (Scope::Graph, STATE_KW) => next == NUMBER,
+            (Scope::Graph, TRANS_KW) => {
+                next == NUMBER || self.nth_is_kw(1, ANY_KW) || self.nth_is_kw(1, RETURN_KW)
             }
-            Scope::Group => {
-                (is("instance") && next == IDENT && self.nth(2) == COLON && self.nth(3) != EQ)
-                    || (is("option") && next == IDENT && matches!(self.nth(2), SEMI | NUMBER))
+            (Scope::Graph, ACTIVATE_KW) => true,
+            (Scope::Graph, PERMANENT_KW | IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => next == L_ANGLE,
+            (Scope::Group, INSTANCE_KW) => {
+                next == IDENT && self.nth(2) == COLON && self.nth(3) != EQ
             }
-            Scope::Sequencer => {
-                let named = matches!(next, IDENT | NUMBER);
-                ((is("step") || is("trans") || is("jump") || is("loop") || is("sequencer"))
-                    && named)
-                    || ((is("parallel") || is("alt") || is("branch")) && next == L_ANGLE)
+            (Scope::Group, OPTION_KW) => next == IDENT && matches!(self.nth(2), SEMI | NUMBER),
+            (Scope::Sequencer, STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW) => {
+                matches!(next, IDENT | NUMBER)
             }
-            Scope::Chart => {
-                (is("sequencer") && matches!(next, IDENT | NUMBER))
-                    || ((is("in") || is("out") || is("in_out") || is("stat")) && next == L_ANGLE)
-            }
+            (Scope::Sequencer, PARALLEL_KW | ALT_KW | BRANCH_KW) => next == L_ANGLE,
+            (Scope::Chart, SEQUENCER_KW) => matches!(next, IDENT | NUMBER),
+            (Scope::Chart, IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => next == L_ANGLE,
+            _ => false,
         }
     }
 
     /// Common loop control for `< ... >` bodies: returns `true` when the body ends here —
     /// after consuming its `>`, or (reporting HG0003) at the end of the file, an item keyword
     /// or a member keyword of an enclosing scope.
-    pub(crate) fn body_ends(&mut self, open: TextRange, construct: &str, scopes: &[Scope]) -> bool {
+    pub(crate) fn body_ends(
+        &mut self,
+        open: TextRange,
+        construct: &dyn fmt::Display,
+        scopes: &[Scope],
+    ) -> bool {
         if self.at(R_ANGLE) {
             self.bump();
             return true;

@@ -1,7 +1,9 @@
 //! Sequence charts: `chart [type] NAME ["comment"] < sections, properties, sequencers >`,
 //! sequencers with steps, transitions, branches, jumps and loops, and chart expressions.
 
-use super::{Parser, Scope, items, stl};
+use std::fmt;
+
+use super::{Parser, Scope, items, lazy, stl};
 use crate::{SyntaxKind, SyntaxKind::*};
 
 const QUALIFIERS: &[&str] = &["N", "S", "R", "P", "L", "D", "SD", "DS", "SL"];
@@ -10,7 +12,7 @@ pub(crate) fn chart(p: &mut Parser<'_>) {
     p.start(CHART);
     p.bump_keyword();
     // `type` is the keyword only when a name follows it.
-    if p.at_word("type") && matches!(p.nth(1), IDENT) {
+    if p.at_kw(TYPE_KW) && matches!(p.nth(1), IDENT) {
         p.bump_keyword();
     }
     let construct = format!("chart {}", p.nth_text(0));
@@ -27,9 +29,9 @@ pub(crate) fn chart(p: &mut Parser<'_>) {
         while !p.body_ends(open, &construct, &[]) {
             if items::at_var_section(p) {
                 items::var_section(p, &[Scope::Chart]);
-            } else if p.at_word("sequencer") {
+            } else if p.at_kw(SEQUENCER_KW) {
                 sequencer(p);
-            } else if p.at_word("mode") || p.at_word("switching") || p.at_word("run") {
+            } else if p.at_kw(MODE_KW) || p.at_kw(SWITCHING_KW) || p.at_kw(RUN_KW) {
                 chart_prop(p);
             } else {
                 p.error_and_recover(
@@ -45,11 +47,12 @@ pub(crate) fn chart(p: &mut Parser<'_>) {
 /// `mode auto;`, `switching T;`, `run cyclic;`
 fn chart_prop(p: &mut Parser<'_>) {
     p.start(CHART_PROP);
-    let word = p.nth_text(0).to_ascii_lowercase();
+    let word = p.nth_text(0);
     p.bump_keyword();
     if p.at(IDENT) && !p.nth_on_new_line(0) {
         p.bump_node(NAME_REF, 1);
-        p.expect_semi(&format!("'{word}'"), |p| p.at(IDENT));
+        let element = lazy(|f| write!(f, "'{}'", word.to_ascii_lowercase()));
+        p.expect_semi(&element, |p| p.at(IDENT));
     } else {
         p.error_and_recover("a value");
     }
@@ -78,7 +81,7 @@ fn sequencer(p: &mut Parser<'_>) {
             return;
         }
     }
-    if p.at_word("prio") {
+    if p.at_kw(PRIO_KW) {
         p.start(PRIO_CLAUSE);
         p.bump_keyword();
         if p.at(NUMBER) {
@@ -97,16 +100,16 @@ fn sequencer(p: &mut Parser<'_>) {
     p.start(BODY);
     if let Some(open) = p.expect_open(&construct) {
         while !p.body_ends(open, &construct, &[Scope::Chart]) {
-            if p.at_word("sequencer") && matches!(p.nth(1), IDENT | NUMBER) {
+            if p.at_kw(SEQUENCER_KW) && matches!(p.nth(1), IDENT | NUMBER) {
                 // A new sequencer closes this one (the member keyword of the chart).
                 p.error_unclosed(open, &construct);
                 break;
             }
-            if p.at_word("start") && p.nth(1) == L_ANGLE {
+            if p.at_kw(START_KW) && p.nth(1) == L_ANGLE {
                 part(p, START_PART, "start condition", true);
-            } else if p.at_word("pre") && p.nth(1) == L_ANGLE {
+            } else if p.at_kw(PRE_KW) && p.nth(1) == L_ANGLE {
                 part(p, PRE_PART, "pre part", false);
-            } else if p.at_word("post") && p.nth(1) == L_ANGLE {
+            } else if p.at_kw(POST_KW) && p.nth(1) == L_ANGLE {
                 part(p, POST_PART, "post part", false);
             } else if !seq_element(p) {
                 p.error_and_recover("a sequencer element or '>'");
@@ -124,7 +127,7 @@ fn part(p: &mut Parser<'_>, kind: SyntaxKind, construct: &str, conditions: bool)
     p.bump_keyword();
     body_of(
         p,
-        construct,
+        &construct,
         if conditions {
             BodyKind::Conditions
         } else {
@@ -144,7 +147,7 @@ enum BodyKind {
 }
 
 /// `< ... >` of a sequencer element or part.
-fn body_of(p: &mut Parser<'_>, construct: &str, kind: BodyKind) {
+fn body_of(p: &mut Parser<'_>, construct: &dyn fmt::Display, kind: BodyKind) {
     p.start(BODY);
     let Some(open) = p.expect_open(construct) else {
         p.finish_node();
@@ -155,12 +158,12 @@ fn body_of(p: &mut Parser<'_>, construct: &str, kind: BodyKind) {
         // member keyword other than `branch` closes it.
         let closes = match kind {
             BodyKind::Branches => {
-                p.at_member_start(Scope::Sequencer) && !p.at_word("branch")
+                p.at_member_start(Scope::Sequencer) && !p.at_kw(BRANCH_KW)
                     || p.at_member_start(Scope::Chart)
             }
             BodyKind::Elements => {
-                (p.at_word("branch") && p.nth(1) == L_ANGLE)
-                    || (p.at_word("sequencer") && matches!(p.nth(1), IDENT | NUMBER))
+                (p.at_kw(BRANCH_KW) && p.nth(1) == L_ANGLE)
+                    || (p.at_kw(SEQUENCER_KW) && matches!(p.nth(1), IDENT | NUMBER))
                     || p.at_member_start(Scope::Chart)
             }
             _ => false,
@@ -181,10 +184,10 @@ fn body_of(p: &mut Parser<'_>, construct: &str, kind: BodyKind) {
             BodyKind::Statements => assignment(p),
             BodyKind::StepItems => step_item(p),
             BodyKind::Branches => {
-                if p.at_word("branch") && p.nth(1) == L_ANGLE {
+                if p.at_kw(BRANCH_KW) && p.nth(1) == L_ANGLE {
                     p.start(BRANCH);
                     p.bump_keyword();
-                    body_of(p, "branch", BodyKind::Elements);
+                    body_of(p, &"branch", BodyKind::Elements);
                     p.finish_node();
                 } else {
                     p.error_and_recover("'branch' or '>'");
@@ -202,21 +205,21 @@ fn body_of(p: &mut Parser<'_>, construct: &str, kind: BodyKind) {
 
 /// A step, transition, `parallel`, `alt`, jump or loop. Returns `false` if none starts here.
 fn seq_element(p: &mut Parser<'_>) -> bool {
-    if p.at_word("step") {
+    if p.at_kw(STEP_KW) {
         named_element(p, STEP, "step", BodyKind::StepItems, false);
-    } else if p.at_word("trans") {
+    } else if p.at_kw(TRANS_KW) {
         named_element(p, CHART_TRANS, "transition", BodyKind::Conditions, false);
-    } else if p.at_word("jump") {
+    } else if p.at_kw(JUMP_KW) {
         named_element(p, JUMP, "jump", BodyKind::Conditions, true);
-    } else if p.at_word("loop") {
+    } else if p.at_kw(LOOP_KW) {
         named_element(p, LOOP, "loop", BodyKind::Conditions, true);
-    } else if (p.at_word("parallel") || p.at_word("alt")) && p.nth(1) == L_ANGLE {
-        let is_parallel = p.at_word("parallel");
+    } else if (p.at_kw(PARALLEL_KW) || p.at_kw(ALT_KW)) && p.nth(1) == L_ANGLE {
+        let is_parallel = p.at_kw(PARALLEL_KW);
         p.start(if is_parallel { PARALLEL } else { ALT });
         p.bump_keyword();
         body_of(
             p,
-            if is_parallel { "parallel" } else { "alt" },
+            &if is_parallel { "parallel" } else { "alt" },
             BodyKind::Branches,
         );
         p.finish_node();
@@ -265,24 +268,26 @@ fn step_item(p: &mut Parser<'_>) {
         .copied();
     if let Some(phase) = phase.filter(|_| p.nth(1) == L_ANGLE) {
         part(p, STEP_PHASE, phase, false);
-    } else if p.at_word("min") || p.at_word("max") {
+    } else if p.at_kw(MIN_KW) || p.at_kw(MAX_KW) {
         p.start(STEP_TIME);
-        let word = p.nth_text(0).to_ascii_lowercase();
+        let word = p.nth_text(0);
         p.bump_keyword();
         if p.nth_on_new_line(0) || !chart_operand(p) {
             p.error_and_recover("a time value");
         } else {
-            p.expect_semi(&format!("'{word}'"), at_step_item);
+            let element = lazy(|f| write!(f, "'{}'", word.to_ascii_lowercase()));
+            p.expect_semi(&element, at_step_item);
         }
         p.finish_node();
-    } else if p.at_word("confirm") {
+    } else if p.at_kw(CONFIRM_KW) {
         p.start(CONFIRM);
         p.bump_keyword();
-        p.expect_semi("'confirm'", at_step_item);
+        p.expect_semi(&"'confirm'", at_step_item);
         p.finish_node();
     } else if p.at(IDENT) && QUALIFIERS.iter().any(|q| p.at_word(q)) {
         p.start(QUALIFIER_ACTION);
-        let element = format!("the '{}' action", p.nth_text(0));
+        let action = p.nth_text(0);
+        let element = lazy(|f| write!(f, "the '{action}' action"));
         p.bump_node(QUALIFIER, 1);
         if p.nth_on_new_line(0) || !chart_operand(p) {
             p.error_and_recover("an operand");
@@ -320,7 +325,7 @@ fn condition(p: &mut Parser<'_>) {
     if !expr(p) {
         p.error_and_recover("a condition or '>'");
     } else if p.error_count() == errors {
-        p.expect_semi("the condition", at_operand);
+        p.expect_semi(&"the condition", at_operand);
     }
     p.finish_node();
 }
@@ -343,7 +348,7 @@ fn assignment(p: &mut Parser<'_>) {
     if !expr(p) {
         p.error_and_recover("an expression");
     } else if p.error_count() == errors {
-        p.expect_semi("the assignment", |p| matches!(p.current(), IDENT | STRING));
+        p.expect_semi(&"the assignment", |p| matches!(p.current(), IDENT | STRING));
     }
     p.finish_node();
 }
@@ -429,7 +434,7 @@ fn comparison(p: &mut Parser<'_>) -> bool {
 }
 
 fn unary(p: &mut Parser<'_>) -> bool {
-    if p.at_word("not") {
+    if p.at_kw(NOT_KW) {
         p.start(PREFIX_EXPR);
         p.bump_keyword();
         if !unary(p) {

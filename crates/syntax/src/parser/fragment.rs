@@ -13,12 +13,12 @@ use crate::SyntaxError;
 /// is left over. Returns `None` otherwise; the caller then parses the whole file.
 pub(crate) fn graph_member(text: &str) -> Option<(GreenNode, Vec<SyntaxError>)> {
     let mut p = Parser::new(text);
-    if p.significant.first() != Some(&0) {
+    if !p.starts_with_significant() {
         return None;
     }
     p.start_root();
     graph::member(&mut p);
-    if !p.at_eof() || p.emitted != p.tokens.len() {
+    if !p.all_emitted() {
         return None;
     }
     p.finish_node();

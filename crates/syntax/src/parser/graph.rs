@@ -1,7 +1,7 @@
 //! State graphs: `graph NAME ["comment"] < members >` with variable sections, `activate`,
 //! `permanent`, states and transitions.
 
-use super::{Parser, Scope, items, stl};
+use super::{Parser, Scope, items, lazy, stl};
 use crate::SyntaxKind::*;
 
 pub(crate) fn graph(p: &mut Parser<'_>) {
@@ -29,16 +29,16 @@ pub(crate) fn graph(p: &mut Parser<'_>) {
 pub(super) fn member(p: &mut Parser<'_>) {
     if items::at_var_section(p) {
         items::var_section(p, &[Scope::Graph]);
-    } else if p.at_word("activate") {
+    } else if p.at_kw(ACTIVATE_KW) {
         activate(p);
-    } else if p.at_word("permanent") {
+    } else if p.at_kw(PERMANENT_KW) {
         p.start(PERMANENT);
         p.bump_keyword();
-        stl::instruction_body(p, "permanent");
+        stl::instruction_body(p, &"permanent");
         p.finish_node();
-    } else if p.at_word("state") {
+    } else if p.at_kw(STATE_KW) {
         state(p);
-    } else if p.at_word("trans") {
+    } else if p.at_kw(TRANS_KW) {
         trans(p);
     } else {
         p.error_and_recover("a graph member ('state', 'trans', 'in', 'out', 'in_out', 'stat', 'activate', 'permanent') or '>'");
@@ -63,7 +63,7 @@ fn activate(p: &mut Parser<'_>) {
             break;
         }
     }
-    p.expect_semi("'activate'", |p| p.at_member_start(Scope::Graph));
+    p.expect_semi(&"'activate'", |p| p.at_member_start(Scope::Graph));
     p.finish_node();
 }
 
@@ -76,15 +76,18 @@ fn at_integer(p: &Parser<'_>) -> bool {
 fn state(p: &mut Parser<'_>) {
     p.start(STATE);
     p.bump_keyword();
-    let mut construct = "state".to_owned();
+    let number = at_integer(p).then(|| p.nth_text(0));
+    let construct = lazy(|f| match number {
+        Some(number) => write!(f, "state {number}"),
+        None => f.write_str("state"),
+    });
     let mut header_ok = true;
-    if at_integer(p) {
-        construct = format!("state {}", p.nth_text(0));
+    if number.is_some() {
         p.bump();
         loop {
             if p.at(STRING) {
                 p.bump_node(COMMENT_STRING, 1);
-            } else if p.at_word("fault") || p.at_word("message") {
+            } else if p.at_kw(FAULT_KW) || p.at_kw(MESSAGE_KW) {
                 p.start(ATTRIBUTE);
                 p.bump_keyword();
                 p.finish_node();
@@ -106,11 +109,11 @@ fn state(p: &mut Parser<'_>) {
 fn trans(p: &mut Parser<'_>) {
     p.start(TRANS);
     p.bump_keyword();
-    let source = p.nth_text(0).to_owned();
+    let source = p.nth_text(0);
     if !endpoint(p) {
         p.error_expected("a state number, 'any' or 'return'");
         if p.recover_header() {
-            stl::instruction_body(p, "transition");
+            stl::instruction_body(p, &"transition");
         }
         p.finish_node();
         return;
@@ -118,24 +121,24 @@ fn trans(p: &mut Parser<'_>) {
     if !p.at_arrow() {
         p.error_expected("'->'");
         if p.recover_header() {
-            stl::instruction_body(p, "transition");
+            stl::instruction_body(p, &"transition");
         }
         p.finish_node();
         return;
     }
     p.bump_node(ARROW, 2);
-    let target = p.nth_text(0).to_owned();
+    let target = p.nth_text(0);
     if !endpoint(p) {
         p.error_expected("a state number, 'any' or 'return'");
         if p.recover_header() {
-            stl::instruction_body(p, "transition");
+            stl::instruction_body(p, &"transition");
         }
         p.finish_node();
         return;
     }
-    let construct = format!("transition {source}->{target}");
+    let construct = lazy(|f| write!(f, "transition {source}->{target}"));
     loop {
-        if p.at_word("prio") {
+        if p.at_kw(PRIO_KW) {
             p.start(PRIO_CLAUSE);
             p.bump_keyword();
             if at_integer(p) {
@@ -150,9 +153,9 @@ fn trans(p: &mut Parser<'_>) {
                 p.finish_node();
                 return;
             }
-        } else if ["auto", "manual", "waits", "fault"]
+        } else if [AUTO_KW, MANUAL_KW, WAITS_KW, FAULT_KW]
             .iter()
-            .any(|w| p.at_word(w))
+            .any(|&kw| p.at_kw(kw))
         {
             p.start(ATTRIBUTE);
             p.bump_keyword();
@@ -171,7 +174,7 @@ fn trans(p: &mut Parser<'_>) {
 fn endpoint(p: &mut Parser<'_>) -> bool {
     if at_integer(p) {
         p.bump_node(ENDPOINT, 1);
-    } else if p.at_word("any") || p.at_word("return") {
+    } else if p.at_kw(ANY_KW) || p.at_kw(RETURN_KW) {
         p.start(ENDPOINT);
         p.bump_keyword();
         p.finish_node();

@@ -1,6 +1,6 @@
 //! Graph groups: `group NAME [fc ..] [db ..] ["comment"] < options and instances >`.
 
-use super::{Parser, Scope, stl};
+use super::{Parser, Scope, lazy, stl};
 use crate::SyntaxKind::*;
 
 pub(crate) fn group(p: &mut Parser<'_>) {
@@ -15,9 +15,9 @@ pub(crate) fn group(p: &mut Parser<'_>) {
         }
     }
     loop {
-        let clause = if p.at_word("fc") {
+        let clause = if p.at_kw(FC_KW) {
             FC_CLAUSE
-        } else if p.at_word("db") {
+        } else if p.at_kw(DB_KW) {
             DB_CLAUSE
         } else {
             break;
@@ -39,9 +39,9 @@ pub(crate) fn group(p: &mut Parser<'_>) {
     p.start(BODY);
     if let Some(open) = p.expect_open(&construct) {
         while !p.body_ends(open, &construct, &[]) {
-            if p.at_word("option") {
+            if p.at_kw(OPTION_KW) {
                 option(p);
-            } else if p.at_word("instance") {
+            } else if p.at_kw(INSTANCE_KW) {
                 instance(p);
             } else {
                 p.error_and_recover("'option', 'instance' or '>'");
@@ -60,7 +60,7 @@ fn option(p: &mut Parser<'_>) {
         if p.at(NUMBER) && !p.nth_on_new_line(0) {
             p.bump();
         }
-        p.expect_semi("the option", |p| p.at_member_start(Scope::Group));
+        p.expect_semi(&"the option", |p| p.at_member_start(Scope::Group));
     } else {
         p.error_and_recover("an option name");
     }
@@ -108,7 +108,8 @@ fn instance(p: &mut Parser<'_>) {
 /// `Formal := operand;` or `Formal := Inst.Msg;`
 fn actual(p: &mut Parser<'_>) {
     p.start(ACTUAL);
-    let element = format!("the actual parameter {}", p.nth_text(0));
+    let name = p.nth_text(0);
+    let element = lazy(|f| write!(f, "the actual parameter {name}"));
     p.bump_node(NAME_REF, 1);
     if !p.at_assign() {
         p.error_and_recover("':='");

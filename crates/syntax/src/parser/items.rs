@@ -3,7 +3,7 @@
 
 use rowan::TextRange;
 
-use super::{Parser, Scope, chart, graph, group, stl};
+use super::{Parser, Scope, chart, graph, group, lazy, stl};
 use crate::{SyntaxError, SyntaxKind::*, error::ErrorCode};
 
 pub(crate) fn source_file(p: &mut Parser<'_>) {
@@ -14,7 +14,7 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
     while !p.at_eof() {
         let start = p.nth_range(0).start();
         let mut set = None;
-        if p.at_word("mnemonic") {
+        if p.at_kw(MNEMONIC_KW) {
             set = Some(mnemonic(p));
         } else if p.at(R_ANGLE) {
             let range = p.nth_range(0);
@@ -101,15 +101,15 @@ fn recover_item(p: &mut Parser<'_>) {
 
 /// Parses an item if the current token starts one.
 fn item(p: &mut Parser<'_>) -> bool {
-    if p.at_word("graph") {
+    if p.at_kw(GRAPH_KW) {
         graph::graph(p);
-    } else if p.at_word("group") {
+    } else if p.at_kw(GROUP_KW) {
         group::group(p);
-    } else if p.at_word("chart") {
+    } else if p.at_kw(CHART_KW) {
         chart::chart(p);
-    } else if p.at_word("symbols") {
+    } else if p.at_kw(SYMBOLS_KW) {
         symbols(p);
-    } else if p.at_word("block") {
+    } else if p.at_kw(BLOCK_KW) {
         block_interface(p);
     } else {
         return false;
@@ -121,10 +121,10 @@ fn item(p: &mut Parser<'_>) -> bool {
 fn mnemonic(p: &mut Parser<'_>) -> String {
     p.start(MNEMONIC);
     p.bump_keyword();
-    let set = if p.at_word("simatic") || p.at_word("international") {
+    let set = if p.at_kw(SIMATIC_KW) || p.at_kw(INTERNATIONAL_KW) {
         let set = p.nth_text(0).to_ascii_lowercase();
         p.bump_keyword();
-        p.expect_semi("the 'mnemonic' directive", |_| false);
+        p.expect_semi(&"the 'mnemonic' directive", |_| false);
         set
     } else {
         p.error_and_recover("'simatic' or 'international'");
@@ -138,8 +138,8 @@ fn mnemonic(p: &mut Parser<'_>) -> String {
 fn symbols(p: &mut Parser<'_>) {
     p.start(SYMBOLS);
     p.bump_keyword();
-    if let Some(open) = p.expect_open("the symbol table") {
-        while !p.body_ends(open, "the symbol table", &[]) {
+    if let Some(open) = p.expect_open(&"the symbol table") {
+        while !p.body_ends(open, &"the symbol table", &[]) {
             if p.at(IDENT) || p.at(STRING) {
                 symbol(p);
             } else {
@@ -152,9 +152,9 @@ fn symbols(p: &mut Parser<'_>) {
 
 fn symbol(p: &mut Parser<'_>) {
     p.start(SYMBOL);
-    let name = p.nth_text(0).to_owned();
+    let name = p.nth_text(0);
     p.bump_node(NAME, 1);
-    let element = format!("symbol {name}");
+    let element = lazy(|f| write!(f, "symbol {name}"));
     if p.at_colon() {
         p.bump();
         if stl::address_in_table(p) {
@@ -196,14 +196,15 @@ fn block_interface(p: &mut Parser<'_>) {
 
 /// `in <`, `out <`, `in_out <`, `stat <`.
 pub(crate) fn at_var_section(p: &Parser<'_>) -> bool {
-    (p.at_word("in") || p.at_word("out") || p.at_word("in_out") || p.at_word("stat"))
+    (p.at_kw(IN_KW) || p.at_kw(OUT_KW) || p.at_kw(IN_OUT_KW) || p.at_kw(STAT_KW))
         && p.nth(1) == L_ANGLE
 }
 
 /// `in < Name : TYPE [msg in|out] [:= constant] ["comment"]; ... >`
 pub(crate) fn var_section(p: &mut Parser<'_>, scopes: &[Scope]) {
     p.start(VAR_SECTION);
-    let construct = format!("section '{}'", p.nth_text(0).to_ascii_lowercase());
+    let word = p.nth_text(0);
+    let construct = lazy(|f| write!(f, "section '{}'", word.to_ascii_lowercase()));
     p.bump_keyword();
     if let Some(open) = p.expect_open(&construct) {
         while !p.body_ends(open, &construct, scopes) {
@@ -219,7 +220,8 @@ pub(crate) fn var_section(p: &mut Parser<'_>, scopes: &[Scope]) {
 
 fn var_decl(p: &mut Parser<'_>) {
     p.start(VAR_DECL);
-    let element = format!("the declaration of {}", p.nth_text(0));
+    let name = p.nth_text(0);
+    let element = lazy(|f| write!(f, "the declaration of {name}"));
     p.bump_node(NAME, 1);
     if !p.at_colon() {
         p.error_and_recover("':'");
@@ -236,7 +238,7 @@ fn var_decl(p: &mut Parser<'_>) {
         p.finish_node();
         return;
     }
-    if p.at_word("msg") && (p.nth_is_word(1, "in") || p.nth_is_word(1, "out")) {
+    if p.at_kw(MSG_KW) && (p.nth_is_kw(1, IN_KW) || p.nth_is_kw(1, OUT_KW)) {
         p.start(MSG_KIND);
         p.bump_keyword();
         p.bump_keyword();

@@ -1,7 +1,9 @@
 //! STL: instruction bodies (labels, blocks, `wait`/`supervise`), statements, opcodes,
 //! operands, addresses, constants and CALL arguments.
 
-use super::{Parser, Scope};
+use std::fmt;
+
+use super::{Parser, Scope, lazy};
 use crate::SyntaxKind::*;
 
 /// Address-area identifiers of both mnemonic sets (diagnostics.md Appendix A.2). The parser
@@ -129,7 +131,7 @@ pub(crate) fn at_stmt_start(p: &Parser<'_>) -> bool {
 
 /// The body of a state, transition or `permanent`: labelled blocks of statements, `wait` and
 /// `supervise` items, and statements before the first label (an unlabelled block).
-pub(crate) fn instruction_body(p: &mut Parser<'_>, construct: &str) {
+pub(crate) fn instruction_body(p: &mut Parser<'_>, construct: &dyn fmt::Display) {
     p.start(BODY);
     let Some(open) = p.expect_open(construct) else {
         p.finish_node();
@@ -158,7 +160,7 @@ pub(crate) fn instruction_body(p: &mut Parser<'_>, construct: &str) {
             p.start(BLOCK);
             p.bump_node(LABEL, label);
             in_block = true;
-        } else if p.at_word("wait") || p.at_word("supervise") {
+        } else if p.at_kw(WAIT_KW) || p.at_kw(SUPERVISE_KW) {
             if in_block {
                 p.finish_node();
                 in_block = false;
@@ -181,16 +183,17 @@ pub(crate) fn instruction_body(p: &mut Parser<'_>, construct: &str) {
 
 /// `wait T#2S;` / `supervise T#10S;`
 fn time_item(p: &mut Parser<'_>) {
-    let is_wait = p.at_word("wait");
+    let is_wait = p.at_kw(WAIT_KW);
     p.start(if is_wait { WAIT_ITEM } else { SUPERVISE_ITEM });
-    let word = p.nth_text(0).to_ascii_lowercase();
+    let word = p.nth_text(0);
     p.bump_keyword();
     let errors = p.error_count();
     if p.nth_on_new_line(0) || !operand(p) {
         p.error_and_recover("a time constant or operand");
     } else if p.error_count() == errors {
-        p.expect_semi(&format!("the '{word}' item"), |p| {
-            at_stmt_start(p) || p.at_word("wait") || p.at_word("supervise")
+        let element = lazy(|f| write!(f, "the '{}' item", word.to_ascii_lowercase()));
+        p.expect_semi(&element, |p| {
+            at_stmt_start(p) || p.at_kw(WAIT_KW) || p.at_kw(SUPERVISE_KW)
         });
     }
     p.finish_node();
@@ -213,15 +216,16 @@ pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
         p.finish_node();
         return;
     }
-    let op = p.nth_text(0).to_owned();
-    let op_display: String = (0..n).map(|i| p.nth_text(i)).collect();
+    // An opcode has at most three tokens (`==I`); they are shown without the space between.
+    let op = [p.nth_text(0), p.nth_text(1), p.nth_text(2)];
+    let op = &op[..n];
     p.bump_node(OPCODE, n);
-    let element = format!("'{op_display}'");
+    let element = lazy(|f| write!(f, "'{}'", op.concat()));
     // A label after the operation is never its operand (diagnostics.md HG0002).
     let operand_follows = !p.nth_on_new_line(0) && !p.at(SEMI) && !at_label(p) && !at_jump_label(p);
     if operand_follows {
         let errors = p.error_count();
-        if n == 1 && (op.eq_ignore_ascii_case("CALL") || op.eq_ignore_ascii_case("CC")) {
+        if n == 1 && (op[0].eq_ignore_ascii_case("CALL") || op[0].eq_ignore_ascii_case("CC")) {
             call_args(p);
         } else {
             // No operand is fine here; `expect_semi` reports a token that cannot follow.
@@ -434,10 +438,16 @@ pub(crate) fn literal(p: &mut Parser<'_>) -> bool {
     if is_number {
         let start = p.nth_range(0).start();
         let end = p.nth_range(n - 1).end();
-        let text: String = (0..n).map(|i| p.nth_text(i)).collect();
+        let negative;
+        let text = if n == 1 {
+            p.nth_text(0)
+        } else {
+            negative = format!("{}{}", p.nth_text(0), p.nth_text(1));
+            &negative
+        };
         let range = rowan::TextRange::new(start, end);
         let mut errors = Vec::new();
-        crate::validation::check_number(&text, range, &mut errors);
+        crate::validation::check_number(text, range, &mut errors);
         for error in errors {
             p.push_error(error);
         }
