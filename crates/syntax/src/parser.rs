@@ -20,6 +20,7 @@ mod stl;
 
 use std::fmt;
 
+use logos::Logos;
 use rowan::{GreenNode, TextRange, TextSize};
 
 use builder::{Checkpoint, TreeBuilder};
@@ -51,6 +52,11 @@ impl<F: Fn(&mut fmt::Formatter<'_>) -> fmt::Result> fmt::Display for Lazy<F> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         (self.0)(f)
     }
+}
+
+/// A text offset. Texts are below 4 GiB (rowan's limit), so the offset fits.
+fn text_size(offset: usize) -> TextSize {
+    TextSize::new(offset as u32)
 }
 
 /// Marker for "end of input" in lookahead.
@@ -112,38 +118,75 @@ impl<'t> Parser<'t> {
         let mut significant = Vec::with_capacity(text.len() / 4 + 16);
         let mut trivia = Vec::with_capacity(text.len() / 5 + 16);
         let mut errors = Vec::new();
-        let mut offset = TextSize::from(0);
         let mut saw_newline = false;
         let mut adjacent = false;
-        for token in lexer::Tokens::new(text) {
-            // Only a few kinds can carry an error of their own; skip the call for the rest.
-            if matches!(token.kind, STRING | CHAR | LEX_ERROR)
-                || (matches!(token.kind, IDENT | TYPED_CONST) && !token.text.is_ascii())
-            {
-                lexer::token_errors(token, offset, &mut errors);
+        // The lexer runs here directly rather than through `lexer::Tokens`: this loop is the
+        // hottest of the parser. The same rules apply: a leading byte-order mark is white
+        // space, and a run of unlexable characters is one LEX_ERROR token.
+        let bom = if text.starts_with('\u{FEFF}') {
+            '\u{FEFF}'.len_utf8()
+        } else {
+            0
+        };
+        if bom > 0 {
+            trivia.push(Token {
+                kind: WHITESPACE,
+                text: &text[..bom],
+            });
+        }
+        // Start of the LEX_ERROR run that is the last trivia token, while the run can grow.
+        let mut error_run: Option<usize> = None;
+        let mut lexer = SyntaxKind::lexer(&text[bom..]);
+        while let Some(result) = lexer.next() {
+            let start = bom + lexer.span().start;
+            let token_text = lexer.slice();
+            let Ok(kind) = result else {
+                let run_start = *error_run.get_or_insert(start);
+                let run = Token {
+                    kind: LEX_ERROR,
+                    text: &text[run_start..bom + lexer.span().end],
+                };
+                if run_start == start {
+                    trivia.push(run);
+                } else if let Some(last) = trivia.last_mut() {
+                    *last = run;
+                }
+                adjacent = false;
+                continue;
+            };
+            if let Some(run_start) = error_run.take() {
+                if let Some(&run) = trivia.last() {
+                    lexer::token_errors(run, text_size(run_start), &mut errors);
+                }
             }
-            let start = offset;
-            offset += TextSize::of(token.text);
-            match token.kind {
-                WHITESPACE | COMMENT | LEX_ERROR => {
-                    // Comments end before the line break, and unlexable runs never hold one.
-                    if token.kind == WHITESPACE
-                        && token.text.bytes().any(|b| b == b'\n' || b == b'\r')
-                    {
+            let token = Token {
+                kind,
+                text: token_text,
+            };
+            // Only a few kinds can carry an error of their own; skip the call for the rest.
+            if matches!(kind, STRING | CHAR)
+                || (matches!(kind, IDENT | TYPED_CONST) && !token_text.is_ascii())
+            {
+                lexer::token_errors(token, text_size(start), &mut errors);
+            }
+            match kind {
+                WHITESPACE | COMMENT => {
+                    // Comments end before the line break.
+                    if kind == WHITESPACE && token_text.bytes().any(|b| b == b'\n' || b == b'\r') {
                         saw_newline = true;
                     }
                     adjacent = false;
                     trivia.push(token);
                 }
-                kind => {
+                _ => {
                     let keyword = if kind == IDENT {
-                        SyntaxKind::from_keyword(token.text).unwrap_or(IDENT)
+                        SyntaxKind::from_keyword(token_text).unwrap_or(IDENT)
                     } else {
                         IDENT
                     };
                     significant.push(Significant {
-                        text: token.text,
-                        offset: start,
+                        text: token_text,
+                        offset: text_size(start),
                         trivia_end: trivia.len() as u32,
                         kind,
                         keyword,
@@ -155,6 +198,12 @@ impl<'t> Parser<'t> {
                 }
             }
         }
+        if let Some(run_start) = error_run {
+            if let Some(&run) = trivia.last() {
+                lexer::token_errors(run, text_size(run_start), &mut errors);
+            }
+        }
+        let offset = text_size(text.len());
         Parser {
             significant,
             trivia,
@@ -599,5 +648,45 @@ impl<'t> Parser<'t> {
     /// `->` written as two adjacent tokens.
     pub(crate) fn at_arrow(&self) -> bool {
         self.at(MINUS) && self.nth(1) == R_ANGLE && self.nth_joined(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{SyntaxKind::*, lexer::tokenize, parse};
+
+    /// The parser lexes on its own (see `Parser::new`); its tokens must be `tokenize`'s.
+    #[test]
+    fn parser_tokens_are_the_lexer_tokens() {
+        for text in [
+            "",
+            "\u{FEFF}",
+            "\u{FEFF}graph G < >",
+            "$",
+            "$@",
+            "graph $@ G <\n$>",
+            "a$@b",
+            "\"open\n'x''",
+            "@@ // note\n@ §§",
+            "graph Gärtner < state 1 < U Ä; > >€",
+            "  \r\n\t",
+        ] {
+            let leaves: Vec<_> = parse(text)
+                .syntax_node()
+                .descendants_with_tokens()
+                .filter_map(|e| e.into_token())
+                .map(|t| (t.kind(), t.text().to_owned()))
+                .collect();
+            let tokens = tokenize(text);
+            assert_eq!(leaves.len(), tokens.len(), "{text:?}");
+            for ((kind, leaf), token) in leaves.iter().zip(&tokens) {
+                assert_eq!(leaf, token.text, "{text:?}");
+                assert!(
+                    *kind == token.kind || (token.kind == IDENT && kind.is_keyword()),
+                    "{text:?}: {kind:?} for {:?}",
+                    token.kind
+                );
+            }
+        }
     }
 }

@@ -61,6 +61,10 @@ pub(crate) struct TreeBuilder<'t> {
     tokens: Vec<GreenToken>,
     /// Numbers of the fixed-text tokens (punctuation) by kind, `u32::MAX` if not yet created.
     fixed: Vec<u32>,
+    /// Numbers of the white-space tokens that are a line break and indentation, or only
+    /// spaces, by [`indentation_slot`]; `u32::MAX` if not yet created. Half of all tokens are
+    /// such white space.
+    indentation: Vec<u32>,
     /// Numbers of all other tokens by kind and text.
     token_ids: FxHashMap<TokenKey<'t>, u32>,
     /// For each token: the last node that wraps just this token, as (kind, node number).
@@ -80,6 +84,7 @@ impl<'t> TreeBuilder<'t> {
             owned: Vec::with_capacity(64),
             tokens: Vec::new(),
             fixed: vec![u32::MAX; LEX_ERROR as usize],
+            indentation: vec![u32::MAX; 2 * MAX_INDENT],
             token_ids: FxHashMap::default(),
             wrapped: Vec::new(),
             nodes: Vec::new(),
@@ -98,6 +103,15 @@ impl<'t> TreeBuilder<'t> {
             } else {
                 debug_assert_eq!(self.tokens[slot as usize].text(), text);
                 slot
+            }
+        } else if let Some(slot) = indentation_slot(kind, text) {
+            let id = self.indentation[slot];
+            if id == u32::MAX {
+                let id = self.new_token(kind, text);
+                self.indentation[slot] = id;
+                id
+            } else {
+                id
             }
         } else {
             let key = TokenKey::new(kind, text);
@@ -291,6 +305,22 @@ fn push_id<T>(values: &mut Vec<T>, value: T) -> u32 {
     let id = u32::try_from(values.len()).expect("fewer than 2^32 distinct tokens and nodes");
     values.push(value);
     id
+}
+
+/// Longest run of spaces with a slot in `TreeBuilder::indentation`.
+const MAX_INDENT: usize = 64;
+
+/// The slot of `text` in `TreeBuilder::indentation`: spaces only, or `\n` and spaces.
+fn indentation_slot(kind: SyntaxKind, text: &str) -> Option<usize> {
+    if kind != WHITESPACE {
+        return None;
+    }
+    let (line_break, spaces) = match text.as_bytes() {
+        [b'\n', rest @ ..] => (MAX_INDENT, rest),
+        rest => (0, rest),
+    };
+    (spaces.len() < MAX_INDENT && spaces.iter().all(|&b| b == b' '))
+        .then(|| line_break + spaces.len())
 }
 
 /// Kinds whose text is always the same (single-character punctuation).

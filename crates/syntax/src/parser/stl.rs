@@ -26,6 +26,11 @@ fn is_area(word: &str) -> bool {
     word.len() <= 3 && AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
 }
 
+/// Is `word` the one-letter identifier `letter` (either case)? Cheaper than `at_word`.
+fn is_letter(word: &str, letter: u8) -> bool {
+    word.len() == 1 && word.as_bytes()[0].eq_ignore_ascii_case(&letter)
+}
+
 /// `word` = area letters followed by digits (`E1`, `MW10`, `DBX5`)?
 fn is_area_with_number(word: &str) -> bool {
     let split = word
@@ -57,7 +62,10 @@ fn is_integer(text: &str) -> bool {
 
 /// `I`, `D` or `R` as a whole identifier at `n` joined to the previous token.
 fn nth_is_cmp_type(p: &Parser<'_>, n: usize) -> bool {
-    p.nth_joined(n) && (p.nth_is_word(n, "I") || p.nth_is_word(n, "D") || p.nth_is_word(n, "R"))
+    p.nth_joined(n) && p.nth(n) == IDENT && {
+        let word = p.nth_text(n);
+        is_letter(word, b'I') || is_letter(word, b'D') || is_letter(word, b'R')
+    }
 }
 
 /// Number of tokens of an STL comparison at the current position (`==I <>I >I <I >=I <=I`
@@ -78,10 +86,18 @@ pub(crate) fn comparison_len(p: &Parser<'_>) -> usize {
 /// callers guarantee that.
 fn label_len(p: &Parser<'_>) -> usize {
     let colon_at = |n: usize| p.nth(n) == COLON && p.nth_joined(n);
-    match p.current() {
-        IDENT if p.at_word("C") && p.nth(1) == MINUS && p.nth_joined(1) && colon_at(2) => 3,
-        IDENT if (p.at_word("E") || p.at_word("C") || p.at_word("X")) && colon_at(1) => 2,
-        QUESTION | BANG if colon_at(1) => 2,
+    // The token after the first decides most cases; the text is looked at last.
+    match (p.current(), p.nth(1)) {
+        (IDENT, MINUS) if p.nth_joined(1) && colon_at(2) && is_letter(p.nth_text(0), b'C') => 3,
+        (IDENT, COLON) if colon_at(1) => {
+            let word = p.nth_text(0);
+            if is_letter(word, b'E') || is_letter(word, b'C') || is_letter(word, b'X') {
+                2
+            } else {
+                0
+            }
+        }
+        (QUESTION | BANG, _) if colon_at(1) => 2,
         _ => 0,
     }
 }
@@ -108,12 +124,12 @@ fn opcode_len(p: &Parser<'_>) -> usize {
     match p.current() {
         IDENT => {
             let word = p.nth_text(0);
-            let bracket = BRACKET_OPS.iter().any(|op| op.eq_ignore_ascii_case(word))
-                && p.nth(1) == L_PAREN
-                && !p.nth_on_new_line(1);
-            let rounding = word.eq_ignore_ascii_case("RND")
-                && matches!(p.nth(1), PLUS | MINUS)
-                && p.nth_joined(1);
+            let bracket = p.nth(1) == L_PAREN
+                && !p.nth_on_new_line(1)
+                && BRACKET_OPS.iter().any(|op| op.eq_ignore_ascii_case(word));
+            let rounding = matches!(p.nth(1), PLUS | MINUS)
+                && p.nth_joined(1)
+                && word.eq_ignore_ascii_case("RND");
             if bracket || rounding { 2 } else { 1 }
         }
         R_PAREN | EQ => 1,
@@ -344,12 +360,13 @@ fn address_len(p: &Parser<'_>) -> usize {
         return 0;
     }
     let word = p.nth_text(0);
+    // The tokens' kinds are tested before the (costlier) texts.
     // DB10.DBX 5.1, DB10.DBW4, DB10.DBX5.1
-    if is_db_name(word)
-        && p.nth(1) == DOT
+    if p.nth(1) == DOT
         && p.nth_joined(1)
         && p.nth(2) == IDENT
         && p.nth_joined(2)
+        && is_db_name(word)
     {
         let access = p.nth_text(2);
         if is_db_access(access) {
@@ -367,16 +384,16 @@ fn address_len(p: &Parser<'_>) -> usize {
         }
     }
     // E 1.0, MW 10, T 5, FC 10
-    if is_area(word) && p.nth(1) == NUMBER && !p.nth_on_new_line(1) {
+    if p.nth(1) == NUMBER && !p.nth_on_new_line(1) && is_area(word) {
         return 2;
     }
     // E1.0, M10.7
-    if is_area_with_number(word)
-        && p.nth(1) == DOT
+    if p.nth(1) == DOT
         && p.nth_joined(1)
         && p.nth(2) == NUMBER
         && p.nth_joined(2)
         && is_integer(p.nth_text(2))
+        && is_area_with_number(word)
     {
         return 3;
     }
@@ -470,7 +487,7 @@ pub(crate) fn operand(p: &mut Parser<'_>) -> bool {
     }
     match p.current() {
         // `MW [MD 10]`, `E [AR1, P#0.0]`: memory- and register-indirect operands.
-        IDENT if is_area(p.nth_text(0)) && p.nth(1) == L_BRACK && !p.nth_on_new_line(1) => {
+        IDENT if p.nth(1) == L_BRACK && !p.nth_on_new_line(1) && is_area(p.nth_text(0)) => {
             indirect(p)
         }
         HASH if p.nth(1) == IDENT && p.nth_joined(1) => p.bump_node(VAR_REF, 2),
