@@ -132,11 +132,11 @@ pub fn file_diagnostics(
     );
 
     let text = contents.text();
-    let line_index = LineIndex::new(text);
-    let (allows, unknown_codes) = if is_source {
-        suppress::allows(text, db::parse(db, file), &line_index)
-    } else {
-        Default::default()
+    // Only a file with `higraph-allow` comments needs lines (a line index is O(file)).
+    let line_index = (is_source && suppress::may_allow(text)).then(|| LineIndex::new(text));
+    let (allows, unknown_codes) = match &line_index {
+        Some(line_index) => suppress::allows(text, db::parse(db, file), line_index),
+        None => Default::default(),
     };
     let hg6104: Vec<Diag> = unknown_codes
         .iter()
@@ -156,7 +156,9 @@ pub fn file_diagnostics(
             continue;
         };
         let range = db::absolute_range(db, &diag.at);
-        if suppress::is_suppressed(&allows, code, line_index.utf16_position(range.start()).line) {
+        if let Some(line_index) = &line_index
+            && suppress::is_suppressed(&allows, code, line_index.utf16_position(range.start()).line)
+        {
             continue;
         }
         out.push(convert(db, diag, severity, range, ids));

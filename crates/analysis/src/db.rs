@@ -211,18 +211,11 @@ pub fn item_syntax<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Opt
         .map(|n| Green(n.green().to_owned()))
 }
 
-/// A member of a graph (a `state`, `trans`, variable section, ...), identified by its green
-/// node. An incremental reparse keeps the green nodes of the members it did not touch, so
-/// their [`member_facts`] and STL analyses are found again by pointer.
-#[salsa::interned(debug)]
-pub struct Member<'db> {
-    #[returns(ref)]
-    pub green: MemberGreen,
-}
-
-/// A member's green node, compared and hashed by address: equal addresses are the same
-/// node (the interned value keeps it alive), and equal content at another address only
-/// costs a recomputation.
+/// A graph member's green node (a `state`, `trans`, variable section, ...), compared and
+/// hashed by address: equal addresses are the same node (the interned [`Chunk`] keeps it
+/// alive), and equal content at another address only costs a recomputation. An incremental
+/// reparse keeps the green nodes of the members it did not touch, so their analyses are
+/// found again.
 #[derive(Debug, Clone)]
 pub struct MemberGreen(pub GreenNode);
 
@@ -247,17 +240,39 @@ impl MemberGreen {
     }
 }
 
-/// The members of a graph item, in text order, with their offsets in the item.
+/// A run of consecutive members of a graph: each member's green node with its offset from
+/// the chunk's start. Per-member results are gathered chunk by chunk ([`chunk_facts`],
+/// [`chunk_stl`]), so that after a keystroke the graph's analysis touches a few hundred
+/// memoized chunks instead of thousands of members.
+#[salsa::interned(debug)]
+pub struct Chunk<'db> {
+    #[returns(ref)]
+    pub members: Vec<(MemberGreen, TextSize)>,
+}
+
+/// The members of a graph item in chunks, with the chunks' offsets in the item.
 #[derive(Debug, Clone, PartialEq, Eq, Default, salsa::SalsaValue)]
 pub struct GraphLayout<'db> {
-    pub members: Vec<Member<'db>>,
+    pub chunks: Vec<Chunk<'db>>,
     pub offsets: Vec<TextSize>,
+}
+
+/// Where chunks end is decided by the members themselves (content-defined chunking): after a
+/// member whose address hashes to 0 modulo 16, and after at most 64 members. A changed
+/// member is a new node at a new address, so an edit moves at most the two boundaries around
+/// it, and every other chunk stays the same interned value.
+fn ends_chunk(member: &MemberGreen, len: usize) -> bool {
+    const MAX_MEMBERS: usize = 64;
+    let address = &*member.0 as *const higraph_syntax::rowan::GreenNodeData as usize;
+    let mixed = (address >> 4).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    (mixed >> 60) == 0 || len >= MAX_MEMBERS
 }
 
 /// The layout of a graph item (empty for other items). Runs on every edit of the item, but
 /// only walks the green children of the graph's body.
 #[salsa::tracked(returns(ref))]
 pub fn graph_layout<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> GraphLayout<'db> {
+    use higraph_syntax::rowan::NodeOrToken;
     let mut layout = GraphLayout::default();
     let Some(Green(graph)) = item_syntax(db, item) else {
         return layout;
@@ -268,19 +283,32 @@ pub fn graph_layout<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Gr
     let mut offset = TextSize::from(0);
     for child in graph.children() {
         let len = child.text_len();
-        if let higraph_syntax::rowan::NodeOrToken::Node(body) = child
+        if let NodeOrToken::Node(body) = child
             && body.kind() == SyntaxKind::BODY.into()
         {
-            let mut inner = offset;
-            for member in body.children() {
-                let len = member.text_len();
-                if let higraph_syntax::rowan::NodeOrToken::Node(node) = member {
-                    layout
-                        .members
-                        .push(Member::new(db, MemberGreen(node.to_owned())));
-                    layout.offsets.push(inner);
+            let mut at = offset;
+            let mut chunk: Vec<(MemberGreen, TextSize)> = Vec::new();
+            let mut start = at;
+            for element in body.children() {
+                if let NodeOrToken::Node(node) = element {
+                    if chunk.is_empty() {
+                        start = at;
+                    }
+                    let member = MemberGreen(node.to_owned());
+                    let done = ends_chunk(&member, chunk.len() + 1);
+                    chunk.push((member, at - start));
+                    if done {
+                        layout
+                            .chunks
+                            .push(Chunk::new(db, std::mem::take(&mut chunk)));
+                        layout.offsets.push(start);
+                    }
                 }
-                inner += len;
+                at += element.text_len();
+            }
+            if !chunk.is_empty() {
+                layout.chunks.push(Chunk::new(db, chunk));
+                layout.offsets.push(start);
             }
         }
         offset += len;
@@ -288,10 +316,15 @@ pub fn graph_layout<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Gr
     layout
 }
 
-/// What the graph rules need to know of one member.
+/// The facts of every member of a chunk, in order. A chunk is small, so recomputing it
+/// whole after an edit costs less than salsa would spend verifying per-member queries.
 #[salsa::tracked(returns(ref))]
-pub fn member_facts<'db>(db: &'db dyn salsa::Database, member: Member<'db>) -> MemberFacts {
-    MemberFacts::of(&member.green(db).root())
+pub fn chunk_facts<'db>(db: &'db dyn salsa::Database, chunk: Chunk<'db>) -> Vec<MemberFacts> {
+    chunk
+        .members(db)
+        .iter()
+        .map(|(green, _)| MemberFacts::of(&green.root()))
+        .collect()
 }
 
 /// What a graph declares (the scope its operands resolve in), without uses.
@@ -306,18 +339,29 @@ pub(crate) fn graph_scope<'db>(
     }
 }
 
-/// The STL rules' findings in one member of a graph item. Keyed by the member's green node,
-/// so a keystroke elsewhere in the graph finds it again; `label_prio` is the priority the
-/// member's transition label shows, if any (§2.3).
+/// The STL findings of a chunk's members, merged; places relative to the chunk (still
+/// marked [`crate::diag::Loc::in_member`]). `label_prios` holds, for each transition of the
+/// chunk in order, the priority its label shows, if any.
 #[salsa::tracked(returns(ref))]
-pub(crate) fn member_stl<'db>(
+pub(crate) fn chunk_stl<'db>(
     db: &'db dyn salsa::Database,
     ws: Workspace,
     item: ItemLoc<'db>,
-    member: Member<'db>,
-    label_prio: Option<u64>,
+    chunk: Chunk<'db>,
+    label_prios: Vec<Option<u64>>,
 ) -> rules::stl::MemberStl {
-    rules::check_member_stl(db, ws, item, member, label_prio)
+    let mut merged = rules::stl::MemberStl::default();
+    let mut prios = label_prios.into_iter();
+    for ((green, offset), facts) in chunk.members(db).iter().zip(chunk_facts(db, chunk)) {
+        let label_prio = match facts {
+            MemberFacts::Trans(_) => prios.next().flatten(),
+            MemberFacts::State(_) | MemberFacts::Permanent { .. } => None,
+            MemberFacts::Other => continue,
+        };
+        let found = rules::check_member_stl(db, ws, item, &green.root(), label_prio);
+        merged.merge(&found, *offset);
+    }
+    merged
 }
 
 /// The item's syntax tree, rooted at the item (offsets relative to the item's start).

@@ -14,7 +14,7 @@ pub struct Loc {
     pub item: Option<u32>,
     pub range: TextRange,
     /// `range` is relative to the graph member being analysed, not yet to the item: the
-    /// per-member analyses ([`crate::db::member_stl`]) do not know where their member stands.
+    /// per-member analyses ([`crate::db::chunk_stl`]) do not know where their member stands.
     /// [`Diag::place_member`] resolves it; no such `Loc` leaves the item's analysis.
     pub in_member: bool,
 }
@@ -50,10 +50,18 @@ impl Loc {
 
     /// Resolves a member-relative place, given the member's offset in its item.
     fn placed(self, member_offset: higraph_syntax::TextSize) -> Loc {
+        Loc {
+            in_member: false,
+            ..self.shifted(member_offset)
+        }
+    }
+
+    /// Moves a member-relative place to be relative to a range that starts `offset` before
+    /// the member (a chunk of members); it stays member-relative.
+    fn shifted(self, offset: higraph_syntax::TextSize) -> Loc {
         if self.in_member {
             Loc {
-                range: self.range + member_offset,
-                in_member: false,
+                range: self.range + offset,
                 ..self
             }
         } else {
@@ -110,13 +118,23 @@ impl Diag {
     /// The diagnostic with every member-relative place made relative to the item, the
     /// member standing at `member_offset` in it.
     pub fn place_member(&self, member_offset: higraph_syntax::TextSize) -> Diag {
+        self.map_locs(|loc| loc.placed(member_offset))
+    }
+
+    /// The diagnostic with every member-relative place moved by `offset` (see
+    /// [`Loc::shifted`]).
+    pub fn shift_member(&self, offset: higraph_syntax::TextSize) -> Diag {
+        self.map_locs(|loc| loc.shifted(offset))
+    }
+
+    fn map_locs(&self, f: impl Fn(Loc) -> Loc) -> Diag {
         let mut diag = self.clone();
-        diag.at = diag.at.placed(member_offset);
+        diag.at = f(diag.at);
         for (loc, _) in &mut diag.related {
-            *loc = loc.placed(member_offset);
+            *loc = f(*loc);
         }
         for (loc, _) in diag.fixes.iter_mut().flat_map(|f| &mut f.edits) {
-            *loc = loc.placed(member_offset);
+            *loc = f(*loc);
         }
         diag
     }

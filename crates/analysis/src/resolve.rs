@@ -15,6 +15,7 @@
 //! [`time_operand_not_found`] (HG3005), also used by charts, groups and symbol tables.
 
 use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
 
 use higraph_syntax::{
     SyntaxKind, TextRange, TextSize, ast,
@@ -47,18 +48,20 @@ pub(crate) struct ActivatedName {
     pub sole_in: Option<TextRange>,
 }
 
-/// What a graph declares, and which declarations its operands use.
+/// What a graph declares, and which declarations its operands use. The declarations are
+/// shared (`Arc`): every member of a graph is checked with its own copy of the scope, and
+/// only the uses are its own.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct GraphScope {
     /// The graph's name as declared.
     pub name: String,
     /// Declared variables in declaration order: the first declaration of each name (C3), with
     /// its type as written (not checked: a `STRING[n]` keeps any length).
-    pub vars: Vec<Var>,
-    vars_by_key: HashMap<String, usize>,
+    pub vars: Arc<Vec<Var>>,
+    vars_by_key: Arc<HashMap<String, usize>>,
     /// Every name of every `activate`, in text order.
-    pub activated: Vec<ActivatedName>,
-    activated_keys: HashSet<String>,
+    pub activated: Arc<Vec<ActivatedName>>,
+    activated_keys: Arc<HashSet<String>>,
     /// Where a new `in` declaration goes: before the `>` of the first `in` section, or (no
     /// `in` section) right after the graph's `<`.
     pub in_insert: Option<(TextSize, bool)>,
@@ -75,10 +78,10 @@ impl GraphScope {
     pub fn new(graph: &ast::Graph) -> GraphScope {
         let mut scope = GraphScope {
             name: graph.name().map(|n| n.text()).unwrap_or_default(),
-            vars: Vec::new(),
-            vars_by_key: HashMap::new(),
-            activated: Vec::new(),
-            activated_keys: HashSet::new(),
+            vars: Arc::default(),
+            vars_by_key: Arc::default(),
+            activated: Arc::default(),
+            activated_keys: Arc::default(),
             in_insert: None,
             activate_insert: None,
             used_vars: Vec::new(),
@@ -90,12 +93,12 @@ impl GraphScope {
             .and_then(|b| b.l_angle())
             .map(|t| t.text_range().end());
         scope.activate_insert = after_open;
-        for member in graph.members() {
-            match member {
-                ast::GraphMember::VarSection(section) => scope.add_section(&section),
-                ast::GraphMember::Activate(activate) => scope.add_activate(&activate),
-                _ => {}
-            }
+        // Sections and `activate`s do not depend on each other's order.
+        for section in graph.var_sections() {
+            scope.add_section(&section);
+        }
+        for activate in graph.activates() {
+            scope.add_activate(&activate);
         }
         if scope.in_insert.is_none() {
             scope.in_insert = after_open.map(|at| (at, true));
@@ -128,8 +131,8 @@ impl GraphScope {
             if self.vars_by_key.contains_key(&key) {
                 continue;
             }
-            self.vars_by_key.insert(key, self.vars.len());
-            self.vars.push(Var {
+            Arc::make_mut(&mut self.vars_by_key).insert(key, self.vars.len());
+            Arc::make_mut(&mut self.vars).push(Var {
                 name: text,
                 name_range: token.text_range(),
                 section: kind,
@@ -159,9 +162,9 @@ impl GraphScope {
             };
             let text = token.text().to_owned();
             if lang::predefined(&text).is_some() {
-                self.activated_keys.insert(index::key(&text));
+                Arc::make_mut(&mut self.activated_keys).insert(index::key(&text));
             }
-            self.activated.push(ActivatedName {
+            Arc::make_mut(&mut self.activated).push(ActivatedName {
                 text,
                 range,
                 removal,
@@ -693,7 +696,12 @@ fn activate_edit(ctx: &Ctx<'_>, scope: &GraphScope, name: &str) -> Vec<(crate::d
     }
     scope
         .activate_insert
-        .map(|at| vec![(ctx.item_loc(TextRange::empty(at)), format!(" activate {name};"))])
+        .map(|at| {
+            vec![(
+                ctx.item_loc(TextRange::empty(at)),
+                format!(" activate {name};"),
+            )]
+        })
         .unwrap_or_default()
 }
 

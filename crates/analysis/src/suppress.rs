@@ -28,7 +28,7 @@ pub struct UnknownCode {
 pub fn allows(text: &str, parse: &Parse, line_index: &LineIndex) -> (Vec<Allow>, Vec<UnknownCode>) {
     let mut allows = Vec::new();
     let mut unknown = Vec::new();
-    if !text.contains("higraph-allow:") {
+    if !may_allow(text) {
         return (allows, unknown);
     }
     for token in parse
@@ -101,6 +101,12 @@ pub fn matches(pattern: &str, code: &str) -> bool {
             .bytes()
             .zip(code.bytes())
             .all(|(p, c)| p == b'X' || p == b'x' || p.eq_ignore_ascii_case(&c))
+}
+
+/// Can the text have a `higraph-allow` comment at all? (A fast scan that lets files without
+/// one skip the rest.)
+pub fn may_allow(text: &str) -> bool {
+    text.contains("higraph-allow:")
 }
 
 /// Is a diagnostic of `code` starting on `line` suppressed?

@@ -35,6 +35,26 @@ macro_rules! ast_node {
     };
 }
 
+/// The child nodes of `parent` of one kind. Scans the green children (no allocation) and
+/// makes a syntax node only for the matches.
+fn children_of_kind(parent: &SyntaxNode, kind: SyntaxKind) -> Vec<SyntaxNode> {
+    let raw = rowan::SyntaxKind::from(kind);
+    let mut offset = parent.text_range().start();
+    let mut found = Vec::new();
+    for child in parent.green().children() {
+        let len = child.text_len();
+        if let rowan::NodeOrToken::Node(node) = child
+            && node.kind() == raw
+            && let Some(rowan::NodeOrToken::Node(syntax)) =
+                parent.child_or_token_at_range(rowan::TextRange::at(offset, len))
+        {
+            found.push(syntax);
+        }
+        offset += len;
+    }
+    found
+}
+
 fn child<N: AstNode>(parent: &SyntaxNode) -> Option<N> {
     parent.children().find_map(N::cast)
 }
@@ -605,8 +625,20 @@ impl Graph {
             })
         })
     }
+    /// The variable sections. Found through the green tree, so a graph with thousands of
+    /// states and transitions does not pay for a syntax node per member.
     pub fn var_sections(&self) -> impl Iterator<Item = VarSection> + use<> {
-        self.body().into_iter().flat_map(|b| children(&b.syntax))
+        self.body()
+            .into_iter()
+            .flat_map(|b| children_of_kind(&b.syntax, VAR_SECTION))
+            .map(|syntax| VarSection { syntax })
+    }
+    /// The `activate` statements (found like [`Graph::var_sections`]).
+    pub fn activates(&self) -> impl Iterator<Item = Activate> + use<> {
+        self.body()
+            .into_iter()
+            .flat_map(|b| children_of_kind(&b.syntax, ACTIVATE))
+            .map(|syntax| Activate { syntax })
     }
     pub fn states(&self) -> impl Iterator<Item = State> + use<> {
         self.body().into_iter().flat_map(|b| children(&b.syntax))

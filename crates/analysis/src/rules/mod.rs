@@ -17,14 +17,14 @@
 
 use std::collections::BTreeSet;
 
-use higraph_syntax::{SyntaxKind, SyntaxNode, TextRange, ast};
+use higraph_syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize, ast};
 
 use crate::{
     db::{self, File, ItemLoc, Workspace},
-    rules::graph::facts::MemberFacts,
     diag::{Diag, Loc},
     index::GlobalIndex,
     lang::Mnemonic,
+    rules::graph::facts::MemberFacts,
 };
 
 pub(crate) mod chart;
@@ -155,20 +155,25 @@ pub(crate) fn check_item(
 }
 
 /// A graph: its names and declarations from its own tree; its structure from the cached facts
-/// of its members ([`db::member_facts`]); its STL member by member ([`db::member_stl`]), so
-/// that an edit in one member re-analyses that member only.
+/// of its members ([`db::chunk_facts`]); its STL chunk by chunk ([`db::chunk_stl`]), so that
+/// an edit in one member re-analyses only the chunk of members around it.
 fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     let db = ctx.db;
     names::check_graph(ctx, graph);
     let layout = db::graph_layout(db, item);
-    let facts: Vec<&MemberFacts> = layout
-        .members
+    let chunks: Vec<&[MemberFacts]> = layout
+        .chunks
         .iter()
-        .map(|&member| db::member_facts(db, member))
+        .map(|&chunk| db::chunk_facts(db, chunk).as_slice())
         .collect();
+    let mut facts: Vec<(TextSize, &MemberFacts)> = Vec::new();
+    for ((chunk, &start), chunk_facts) in layout.chunks.iter().zip(&layout.offsets).zip(&chunks) {
+        let offsets = chunk.members(db).iter().map(|(_, offset)| start + *offset);
+        facts.extend(offsets.zip(chunk_facts.iter()));
+    }
     let model = graph::GraphModel::new(
         graph.name().map(|n| n.text()).unwrap_or_default(),
-        layout.offsets.iter().copied().zip(facts.iter().copied()),
+        facts.iter().copied(),
         graph::declares_variable(graph, "INIT_SD"),
     );
     graph::check(ctx, graph, &model);
@@ -176,35 +181,35 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     let Some(scope) = db::graph_scope(db, item) else {
         return;
     };
-    let mut scope = scope.clone();
-    let mut label_prios = stl::transition_label_priorities(facts.iter().copied()).into_iter();
-    for ((&member, &offset), facts) in layout.members.iter().zip(&layout.offsets).zip(&facts) {
-        let label_prio = match facts {
-            MemberFacts::Trans(_) => label_prios.next().flatten(),
-            MemberFacts::State(_) | MemberFacts::Permanent { .. } => None,
-            MemberFacts::Other => continue,
-        };
-        let found = db::member_stl(db, ctx.ws, item, member, label_prio);
-        ctx.out
-            .diags
-            .extend(found.diags.iter().map(|d| d.place_member(offset)));
-        for (used, here) in scope.used_vars.iter_mut().zip(&found.used_vars) {
-            *used |= *here;
-        }
-        scope.used_predefined.extend(found.used_predefined.iter().copied());
-        ctx.out
-            .used_symbols
-            .extend(found.used_symbols.iter().cloned());
+    let mut label_prios =
+        stl::transition_label_priorities(facts.iter().map(|(_, f)| *f)).into_iter();
+    let mut found = stl::MemberStl::default();
+    for ((&chunk, &start), chunk_facts) in layout.chunks.iter().zip(&layout.offsets).zip(&chunks) {
+        let transitions = chunk_facts
+            .iter()
+            .filter(|f| matches!(f, MemberFacts::Trans(_)))
+            .count();
+        let prios: Vec<Option<u64>> = label_prios.by_ref().take(transitions).collect();
+        found.merge(db::chunk_stl(db, ctx.ws, item, chunk, prios), start);
     }
+    ctx.out
+        .diags
+        .extend(found.diags.iter().map(|d| d.place_member(0.into())));
+    ctx.out.used_symbols.extend(found.used_symbols);
+    let mut scope = scope.clone();
+    for (used, here) in scope.used_vars.iter_mut().zip(&found.used_vars) {
+        *used |= *here;
+    }
+    scope.used_predefined.extend(found.used_predefined);
     stl::report_unused_in_graph(ctx, &scope);
 }
 
-/// The STL analysis of one member of a graph item ([`db::member_stl`]).
+/// The STL analysis of one member of a graph item (`member` is the member's own tree).
 pub(crate) fn check_member_stl(
     db: &dyn salsa::Database,
     ws: Workspace,
     item: ItemLoc<'_>,
-    member: db::Member<'_>,
+    member: &SyntaxNode,
     label_prio: Option<u64>,
 ) -> stl::MemberStl {
     let Some(scope) = db::graph_scope(db, item) else {
@@ -212,7 +217,7 @@ pub(crate) fn check_member_stl(
     };
     let mut ctx = Ctx::for_item(db, ws, item);
     ctx.in_member = true;
-    stl::check_member(&mut ctx, scope, &member.green(db).root(), label_prio)
+    stl::check_member(&mut ctx, scope, member, label_prio)
 }
 
 /// Does the node contain an error node? A construct with a syntax error gets no diagnostics of

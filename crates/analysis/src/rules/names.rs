@@ -54,13 +54,9 @@ pub(crate) fn check_group(ctx: &mut Ctx<'_>, group: &ast::Group) {
         .filter_map(|i| i.name())
         .map(|n| n.text())
         .collect();
+    let namespace = Namespace::Instance(instances);
     for instance in group.instances() {
-        check_name(
-            ctx,
-            &root,
-            instance.name(),
-            &Namespace::Instance(instances.clone()),
-        );
+        check_name(ctx, &root, instance.name(), &namespace);
     }
 }
 
@@ -75,13 +71,9 @@ pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
         .filter_map(|s| s.name())
         .map(|n| n.text())
         .collect();
+    let namespace = Namespace::Sequencer(sequencer_names);
     for sequencer in &sequencers {
-        check_name(
-            ctx,
-            &root,
-            sequencer.name(),
-            &Namespace::Sequencer(sequencer_names.clone()),
-        );
+        check_name(ctx, &root, sequencer.name(), &namespace);
         check_sequencer_elements(ctx, sequencer);
     }
 }
@@ -105,15 +97,19 @@ fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
         .filter_map(|e| transition_name(e).flatten())
         .map(|n| n.text())
         .collect();
+    let (steps, transitions) = (
+        Namespace::Step(steps),
+        Namespace::ChartTransition(transitions),
+    );
     for element in &elements {
         let (name, ns) = match element {
-            ast::SeqElement::Step(s) => (s.name(), Namespace::Step(steps.clone())),
+            ast::SeqElement::Step(s) => (s.name(), &steps),
             _ => match transition_name(element) {
-                Some(name) => (name, Namespace::ChartTransition(transitions.clone())),
+                Some(name) => (name, &transitions),
                 None => continue,
             },
         };
-        check_name(ctx, &root, name, &ns);
+        check_name(ctx, &root, name, ns);
     }
 }
 
@@ -161,8 +157,9 @@ fn check_variables(
         .filter_map(|d| d.name())
         .map(|n| n.text())
         .collect();
+    let namespace = namespace(names);
     for decl in &decls {
-        check_name(ctx, root, decl.name(), &namespace(names.clone()));
+        check_name(ctx, root, decl.name(), &namespace);
     }
 }
 

@@ -32,7 +32,7 @@ pub(crate) fn operand_access(op: &str, ty: Option<crate::lang::Type>) -> Access 
     statement::OperandRule::of(op).access(ty)
 }
 
-/// What the STL rules found in one member of a graph ([`crate::db::member_stl`]).
+/// What the STL rules found in one member, or a chunk of members, of a graph ([`crate::db::chunk_stl`]).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct MemberStl {
     /// Places relative to the member, except where the graph's scope put them (see
@@ -44,6 +44,27 @@ pub struct MemberStl {
     pub used_predefined: Vec<&'static str>,
     /// The global symbols used here (for HG6004).
     pub used_symbols: std::collections::BTreeSet<String>,
+}
+
+impl MemberStl {
+    /// Adds the findings of a member that stands at `offset` from the start of this one's
+    /// range (a chunk or the item).
+    pub(crate) fn merge(&mut self, other: &MemberStl, offset: higraph_syntax::TextSize) {
+        self.diags
+            .extend(other.diags.iter().map(|d| d.shift_member(offset)));
+        if self.used_vars.len() < other.used_vars.len() {
+            self.used_vars.resize(other.used_vars.len(), false);
+        }
+        for (used, here) in self.used_vars.iter_mut().zip(&other.used_vars) {
+            *used |= *here;
+        }
+        for name in &other.used_predefined {
+            if let Err(at) = self.used_predefined.binary_search(name) {
+                self.used_predefined.insert(at, name);
+            }
+        }
+        self.used_symbols.extend(other.used_symbols.iter().cloned());
+    }
 }
 
 /// Checks the STL of one member of a graph, rooted at the member (`ctx.in_member`).
@@ -296,7 +317,7 @@ fn report_unused(ctx: &mut Ctx<'_>, scope: &GraphScope) {
         }
     }
     let mut seen = std::collections::HashSet::new();
-    for name in &scope.activated {
+    for name in scope.activated.iter() {
         let Some(predefined) = crate::lang::predefined(&name.text) else {
             continue;
         };

@@ -66,11 +66,7 @@ fn check_predefined(
 /// Does an `activate` of the graph name `name`?
 fn activates(graph: &ast::Graph, name: &str) -> bool {
     graph
-        .members()
-        .filter_map(|m| match m {
-            ast::GraphMember::Activate(a) => Some(a),
-            _ => None,
-        })
+        .activates()
         .flat_map(|a| a.names())
         .any(|n| n.text().eq_ignore_ascii_case(name))
 }
@@ -78,10 +74,7 @@ fn activates(graph: &ast::Graph, name: &str) -> bool {
 /// An edit that activates `name`: appended to the graph's first `activate`, or a new
 /// `activate name;` after the last variable section.
 pub(super) fn activation_edit(graph: &ast::Graph, name: &str) -> Option<(TextRange, String)> {
-    let activate = graph.members().find_map(|m| match m {
-        ast::GraphMember::Activate(a) => Some(a),
-        _ => None,
-    });
+    let activate = graph.activates().next();
     if let Some(last) = activate.and_then(|a| a.names().last()) {
         let end = last.syntax().text_range().end();
         return Some((TextRange::empty(end), format!(", {name}")));
@@ -96,10 +89,7 @@ pub(super) fn activation_edit(graph: &ast::Graph, name: &str) -> Option<(TextRan
 /// HG1211 and HG1212: what `activate` may name.
 pub(super) fn check_activate(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
     let mut activated: Vec<String> = Vec::new();
-    for activate in graph.members().filter_map(|m| match m {
-        ast::GraphMember::Activate(a) => Some(a),
-        _ => None,
-    }) {
+    for activate in graph.activates() {
         let names: Vec<ast::NameRef> = activate.names().collect();
         for (i, name) in names.iter().enumerate() {
             let Some(token) = name.token() else {

@@ -1,5 +1,5 @@
 //! What the graph rules need to know of one member of a graph, read once from the member's
-//! own syntax tree and cached per member ([`crate::db::member_facts`]).
+//! own syntax tree and cached per chunk of members ([`crate::db::chunk_facts`]).
 //!
 //! Ranges are relative to the member's start, so the facts of a member stay equal when
 //! other members change or move; [`super::model::GraphModel`] adds each member's offset.

@@ -7,7 +7,7 @@
 //! (a state by number, the transitions of a priority range, the transitions leaving a state)
 //! are indexed once, so the rules stay linear in the size of the graph.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use higraph_syntax::{TextRange, TextSize, ast, ast::AstNode};
 
@@ -259,9 +259,9 @@ pub(crate) struct GraphModel<'a> {
     ranges: Vec<(PrioRange, Vec<usize>)>,
     /// Per state: the normal and return transitions leaving it, in text order.
     leaving: Vec<Vec<usize>>,
-    /// The attributes of every state header (numbered or not) and then of every transition
-    /// header, in text order (HG2106).
-    pub headers: Vec<Vec<Attr<'a>>>,
+    /// The attributes of every state (numbered or not) with the state's offset, in text
+    /// order (HG2106).
+    state_attributes: Vec<(TextSize, &'a [AttrFact])>,
     /// `wait`/`supervise` items of transitions and `permanent` blocks, in text order.
     pub misplaced: Vec<BodyItem>,
 }
@@ -278,19 +278,18 @@ impl<'a> GraphModel<'a> {
         let mut model = GraphModel {
             name,
             states: Vec::new(),
-            by_key: HashMap::new(),
+            by_key: HashMap::default(),
             transitions: Vec::new(),
             ranges: Vec::new(),
             leaving: Vec::new(),
-            headers: Vec::new(),
+            state_attributes: Vec::new(),
             misplaced: Vec::new(),
         };
-        let mut state_headers = Vec::new();
         let mut trans_facts = Vec::new();
         for (offset, facts) in members {
             match facts {
                 MemberFacts::State(state) => {
-                    state_headers.push(attrs(offset, &state.attributes).collect());
+                    model.state_attributes.push((offset, &state.attributes));
                     let Some(number) = &state.number else {
                         continue;
                     };
@@ -318,14 +317,10 @@ impl<'a> GraphModel<'a> {
                 MemberFacts::Other => {}
             }
         }
-        model.headers = state_headers;
         model.transitions = trans_facts
             .into_iter()
             .map(|(offset, facts)| model.trans_entry(offset, facts, declares_init_sd))
             .collect();
-        model
-            .headers
-            .extend(model.transitions.iter().map(|t| t.attributes().collect()));
         model.index_ranges();
         model.assign_priorities();
         model.mark_shared_labels();
@@ -369,6 +364,20 @@ impl<'a> GraphModel<'a> {
             startup: facts.queries_init_sd && !declares_init_sd,
             shared_label: false,
         }
+    }
+
+    /// The attributes of every state header (numbered or not) and then of every transition
+    /// header, in text order (HG2106).
+    pub fn headers(&self) -> impl Iterator<Item = impl Iterator<Item = Attr<'a>>> + '_ {
+        let transitions = self
+            .transitions
+            .iter()
+            .map(|t| (t.offset, t.facts.attributes.as_slice()));
+        self.state_attributes
+            .iter()
+            .copied()
+            .chain(transitions)
+            .map(|(offset, facts)| attrs(offset, facts))
     }
 
     /// The first state with this number key.
@@ -419,7 +428,8 @@ impl<'a> GraphModel<'a> {
     }
 
     fn index_ranges(&mut self) {
-        let mut position: HashMap<PrioRange, usize> = HashMap::new();
+        let mut position: HashMap<PrioRange, usize> =
+            HashMap::with_capacity_and_hasher(self.states.len() + 1, Default::default());
         self.leaving = vec![Vec::new(); self.states.len()];
         for (i, t) in self.transitions.iter().enumerate() {
             if let Some(range) = t.range {
@@ -474,7 +484,8 @@ impl<'a> GraphModel<'a> {
                 t.target.as_ref().map_or("?", |e| e.text),
             )
         };
-        let mut counts: HashMap<(&str, &str), usize> = HashMap::new();
+        let mut counts: HashMap<(&str, &str), usize> =
+            HashMap::with_capacity_and_hasher(self.transitions.len(), Default::default());
         for t in &self.transitions {
             *counts.entry(plain(t)).or_default() += 1;
         }

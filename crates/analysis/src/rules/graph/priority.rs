@@ -2,7 +2,7 @@
 //! (priority outside 1..65535, explicit or implicit), HG2304 (self-loop), HG2305
 //! (unconditional any-transition), HG2306 (transition shadowed by an unconditional one).
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use super::model::{GraphModel, PrioRange, TransEntry};
 use crate::rules::Ctx;
@@ -30,7 +30,7 @@ fn check_duplicates(
     range: PrioRange,
     members: &[usize],
 ) {
-    let mut first: HashMap<u64, usize> = HashMap::new();
+    let mut first: HashMap<u64, usize> = HashMap::default();
     let mut free = None;
     for &i in members {
         let t = &model.transitions[i];

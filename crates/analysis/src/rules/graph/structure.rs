@@ -191,7 +191,7 @@ fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>
 
 /// HG2106: an attribute repeated in one state or transition header.
 fn check_repeated_attributes(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
-    for attrs in &model.headers {
+    for attrs in model.headers() {
         let mut seen: Vec<&str> = Vec::new();
         for attr in attrs {
             let word = attr.word;

@@ -2,7 +2,7 @@
 //! when two transitions would get the same label. `p` is the effective priority, explicit or
 //! implicit (§2.6).
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use higraph_syntax::{ast, ast::EndpointKind};
 
@@ -42,7 +42,8 @@ pub(crate) fn label_priorities<'a>(
         .iter()
         .map(|t| (end_key(t.source.as_ref()), end_key(t.target.as_ref())))
         .collect();
-    let mut count: HashMap<(&str, &str), usize> = HashMap::new();
+    let mut count: HashMap<(&str, &str), usize> =
+        HashMap::with_capacity_and_hasher(plain.len(), Default::default());
     for key in &plain {
         *count.entry(*key).or_default() += 1;
     }
@@ -115,13 +116,13 @@ fn range_of(source: &EndpointFact, states: &HashSet<u64>) -> Option<Range> {
 /// The effective priority of every transition (§2.6); `None` outside any range without an
 /// explicit `prio`.
 fn effective_priorities(ranges: &[Option<Range>], explicit: &[Option<u64>]) -> Vec<Option<u64>> {
-    let mut used: HashMap<Range, HashSet<u64>> = HashMap::new();
+    let mut used: HashMap<Range, HashSet<u64>> = HashMap::default();
     for (range, prio) in ranges.iter().zip(explicit) {
         if let (Some(range), Some(prio)) = (range, prio) {
             used.entry(*range).or_default().insert(*prio);
         }
     }
-    let mut highest: HashMap<Range, u64> = HashMap::new();
+    let mut highest: HashMap<Range, u64> = HashMap::default();
     let mut out = Vec::with_capacity(ranges.len());
     for (range, prio) in ranges.iter().zip(explicit) {
         let Some(range) = range else {
