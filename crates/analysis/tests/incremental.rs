@@ -100,3 +100,166 @@ fn editing_one_graph_reuses_the_other_items_and_files() {
         "symbol tables are reused: {second:#?}"
     );
 }
+
+/// A graph with `n` states in a ring, a transition per state and a startup transition.
+fn ring(n: usize) -> String {
+    let mut text = String::from("graph Ring <\n  in < Weiter : BOOL; Halt : BOOL; >\n");
+    for i in 0..n {
+        text.push_str(&format!("  state {i} < C: = Halt; >\n"));
+    }
+    text.push_str("  trans any->0 < U INIT_SD; >\n");
+    for i in 0..n {
+        text.push_str(&format!("  trans {i}->{} < U Weiter; >\n", (i + 1) % n));
+    }
+    text.push_str(">\n");
+    text
+}
+
+#[test]
+fn a_keystroke_in_a_transition_reanalyses_one_chunk_of_members() {
+    let log: Arc<Mutex<Vec<String>>> = Arc::default();
+    let sink = log.clone();
+    let mut host = AnalysisHost::with_event_callback(move |event| {
+        if let salsa::EventKind::WillExecute { database_key } = event.kind {
+            if let Ok(mut log) = sink.lock() {
+                log.push(format!("{database_key:?}"));
+            }
+        }
+    });
+    let text = ring(300);
+    host.load(WorkspaceData {
+        files: vec![("ring.higraph".into(), FileContents::Text(text.clone()))],
+        ..WorkspaceData::default()
+    });
+    let first = executed(&host, &log);
+    let chunks = first.iter().filter(|q| q.starts_with("chunk_stl")).count();
+    assert!(chunks > 10, "the graph is analysed in chunks: {chunks}");
+
+    // `U Weiter` → `UN Weiter` in the transition 150->151.
+    let at = text
+        .find("trans 150->151 < U")
+        .map(|i| i + "trans 150->151 < U".len());
+    let at = at.expect("the transition is there") as u32;
+    let edit = higraph_syntax::Edit {
+        delete: higraph_syntax::TextRange::empty(at.into()),
+        insert: "N".to_owned(),
+    };
+    let edited = host.apply_edits("ring.higraph", &[edit]);
+    let second = executed(&host, &log);
+    let redone = second.iter().filter(|q| q.starts_with("chunk_stl")).count();
+    assert!(
+        (1..=3).contains(&redone),
+        "only the chunks around the edited member are re-analysed: {redone} of {chunks}"
+    );
+    let facts = second
+        .iter()
+        .filter(|q| q.starts_with("chunk_facts"))
+        .count();
+    assert!(facts <= 3, "facts are reused: {facts}");
+
+    // And the result is what a fresh analysis of the new text gives.
+    let mut fresh = AnalysisHost::new();
+    fresh.load(WorkspaceData {
+        files: vec![(
+            "ring.higraph".into(),
+            FileContents::Text(edited.unwrap_or_default()),
+        )],
+        ..WorkspaceData::default()
+    });
+    assert_eq!(
+        format!("{:?}", host.analysis().diagnostics()),
+        format!("{:?}", fresh.analysis().diagnostics())
+    );
+}
+
+/// Every `.higraph` file under `examples/`, grouped by workspace (folder of `higraph.toml`).
+fn example_workspaces() -> Vec<Vec<(String, String)>> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut out = Vec::new();
+    let Ok(entries) = std::fs::read_dir(&root) else {
+        return out;
+    };
+    let mut dirs: Vec<_> = entries.flatten().map(|e| e.path()).collect();
+    dirs.sort();
+    for dir in dirs {
+        let mut files = Vec::new();
+        let mut stack = vec![dir.clone()];
+        while let Some(d) = stack.pop() {
+            for entry in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+                let path = entry.path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else if path.extension().is_some_and(|e| e == "higraph") {
+                    let name = path
+                        .strip_prefix(&dir)
+                        .map(|p| p.to_string_lossy().replace('\\', "/"))
+                        .unwrap_or_default();
+                    files.push((name, std::fs::read_to_string(&path).unwrap_or_default()));
+                }
+            }
+        }
+        files.sort();
+        out.push(files);
+    }
+    out
+}
+
+fn load(files: &[(String, String)]) -> AnalysisHost {
+    let mut host = AnalysisHost::new();
+    host.load(WorkspaceData {
+        files: files
+            .iter()
+            .map(|(p, t)| (p.clone(), FileContents::Text(t.clone())))
+            .collect(),
+        ..WorkspaceData::default()
+    });
+    host
+}
+
+/// Keystrokes applied with `apply_edits` (incremental reparse, chunked analysis) leave the
+/// same diagnostics as loading the edited text into a fresh database — for edits all over
+/// every example file, including ones that break and repair the syntax.
+#[test]
+fn keystrokes_give_the_diagnostics_of_a_fresh_analysis() {
+    const TYPED: &[&str] = &[
+        "X", ";", ">", "<", "\n", "1", " ", "U ", "INIT_SD", "prio 2 ",
+    ];
+    let mut seed: u64 = 0x5EED;
+    let mut next = |bound: usize| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 33) as usize) % bound.max(1)
+    };
+    for workspace in example_workspaces() {
+        let mut files = workspace.clone();
+        let mut host = load(&files);
+        let _ = host.analysis().diagnostics();
+        for _ in 0..40 {
+            let which = next(files.len());
+            let (path, text) = files[which].clone();
+            let mut at = next(text.len() + 1);
+            while !text.is_char_boundary(at) {
+                at -= 1;
+            }
+            let delete = if next(3) == 0 && at < text.len() {
+                text[at..].chars().next().map_or(0, char::len_utf8)
+            } else {
+                0
+            };
+            let edit = higraph_syntax::Edit {
+                delete: higraph_syntax::TextRange::at((at as u32).into(), (delete as u32).into()),
+                insert: TYPED[next(TYPED.len())].to_owned(),
+            };
+            let Some(new_text) = host.apply_edits(&path, std::slice::from_ref(&edit)) else {
+                panic!("{edit:?} does not fit {path}");
+            };
+            files[which].1 = new_text;
+            assert_eq!(
+                format!("{:#?}", host.analysis().diagnostics()),
+                format!("{:#?}", load(&files).analysis().diagnostics()),
+                "after {edit:?} in {path}"
+            );
+        }
+    }
+}
