@@ -1,5 +1,6 @@
-//! Profiling aid: re-checks max-graph after one-character edits, N times.
-//! `cargo run --release -p higraph-analysis --example recheck -- [N]`
+//! Profiling aid: re-checks max-graph after one-character edits, N times, optionally with a
+//! completion request after each. `cargo run --release -p higraph-analysis --example recheck
+//! -- [N] [complete]`
 use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
 
 fn main() {
@@ -19,9 +20,20 @@ fn main() {
         .find("trans 0->")
         .and_then(|t| text[t..].find(" UN ").map(|i| t + i + 1))
         .expect("a UN condition");
+    let complete = std::env::args().nth(2).is_some_and(|a| a == "complete");
+    let position = higraph_analysis::ide::FilePosition {
+        path: path.clone(),
+        offset: ((at + 3) as u32).into(),
+    };
+    if complete {
+        let _ = host.analysis().completions(&position);
+    }
     let start = std::time::Instant::now();
     for i in 0..n {
         edit_and_check(&mut host, &path, at, i);
+        if complete {
+            complete_after_edit(&host, &position);
+        }
     }
     println!("{:?} per edit", start.elapsed() / n as u32);
 }
@@ -37,4 +49,11 @@ fn edit_and_check(host: &mut AnalysisHost, path: &str, at: usize, i: usize) {
     };
     host.apply_edits(path, &[edit]);
     let _ = host.analysis().diagnostics().len();
+}
+
+/// Completion in the edited statement's operand, right after the edit.
+#[inline(never)]
+fn complete_after_edit(host: &AnalysisHost, position: &higraph_analysis::ide::FilePosition) {
+    let items = host.analysis().completions(position).unwrap_or_default();
+    assert!(!items.is_empty());
 }

@@ -339,6 +339,19 @@ pub(crate) fn graph_scope<'db>(
     }
 }
 
+/// The operating-mode facts of a chunk's members, merged (for the graph's interface).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn chunk_modes<'db>(
+    db: &'db dyn salsa::Database,
+    chunk: Chunk<'db>,
+) -> rules::group::interface::ModeFacts {
+    let mut modes = rules::group::interface::ModeFacts::default();
+    for (green, _) in chunk.members(db) {
+        modes.merge(&rules::group::interface::ModeFacts::of(&green.root()));
+    }
+    modes
+}
+
 /// The STL findings of a chunk's members, merged; places relative to the chunk (still
 /// marked [`crate::diag::Loc::in_member`]). `label_prios` holds, for each transition of the
 /// chunk in order, the priority its label shows, if any.

@@ -32,6 +32,7 @@ use higraph_syntax::{
 };
 
 use super::FilePosition;
+use crate::rules::graph::facts::MemberFacts;
 use crate::{
     Analysis, Cancellable,
     db::{self, File, ItemKind, ItemLoc, Workspace},
@@ -150,22 +151,23 @@ pub(crate) fn graph_members<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db
     let Some(graph) = db::item_root(db, item).and_then(ast::Graph::cast) else {
         return members;
     };
-    for member in graph.members() {
-        match member {
-            ast::GraphMember::State(state) => {
-                let Some(number) = state.number().and_then(|n| n.text().parse::<u32>().ok()) else {
-                    continue;
-                };
-                let name = state.comment().map(|c| c.value());
-                members.states.push(StateInfo { number, name });
-            }
-            ast::GraphMember::Activate(activate) => {
-                members
-                    .activated
-                    .extend(activate.names().map(|n| n.text()).filter(|n| !n.is_empty()));
-            }
-            _ => {}
+    // States from the cached member facts, so an edit does not walk the whole graph.
+    for &chunk in &db::graph_layout(db, item).chunks {
+        for facts in db::chunk_facts(db, chunk) {
+            let MemberFacts::State(state) = facts else {
+                continue;
+            };
+            let Some(number) = state.number.as_ref().and_then(|n| n.parse::<u32>().ok()) else {
+                continue;
+            };
+            let name = state.display_name.clone();
+            members.states.push(StateInfo { number, name });
         }
+    }
+    for activate in graph.activates() {
+        members
+            .activated
+            .extend(activate.names().map(|n| n.text()).filter(|n| !n.is_empty()));
     }
     members
 }

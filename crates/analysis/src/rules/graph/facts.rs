@@ -31,6 +31,8 @@ pub enum MemberFacts {
 pub struct StateFacts {
     /// The number as written, if it parsed (the ranges are empty otherwise).
     pub number: Option<String>,
+    /// The display name (`state 1 "Oben"`), for completion.
+    pub display_name: Option<String>,
     pub number_range: TextRange,
     /// `state` through the number.
     pub header: TextRange,
@@ -140,6 +142,7 @@ fn state(node: &ast::State) -> StateFacts {
     let empty = TextRange::default();
     StateFacts {
         number: number.as_ref().map(|(n, _)| n.text().to_owned()),
+        display_name: node.comment().map(|c| c.value()),
         number_range: number.as_ref().map_or(empty, |(n, _)| n.text_range()),
         header: number.as_ref().map_or(empty, |(n, keyword)| {
             TextRange::new(keyword.text_range().start(), n.text_range().end())

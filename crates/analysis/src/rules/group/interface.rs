@@ -7,7 +7,7 @@
 //! instantiate the graph are not checked again.
 
 use higraph_syntax::{
-    SyntaxKind,
+    SyntaxKind, SyntaxNode,
     ast::{self, AstNode, EndpointKind},
 };
 
@@ -172,9 +172,57 @@ pub(crate) fn graph_interface<'db>(
         ..GraphInterface::default()
     };
     collect_vars(&graph, &mut interface);
-    collect_mode_transitions(&graph, &mut interface);
-    collect_mode_writes(&graph, &mut interface);
+    // The operating-mode facts of the members, chunk by chunk (see `db::chunk_modes`): an
+    // edit in one member does not walk the whole graph again.
+    let mut modes = ModeFacts::default();
+    for &chunk in &db::graph_layout(db, item).chunks {
+        modes.merge(db::chunk_modes(db, chunk));
+    }
+    interface.has_auto = modes.has_auto;
+    interface.has_manual = modes.has_manual;
+    interface.writes_manual = modes.writes_manual;
+    interface.writes_automatic = modes.writes_automatic;
+    interface.mode_call_args = modes.mode_call_args;
     interface
+}
+
+/// What the graph interface needs of the members of a graph: the operating-mode attributes
+/// of transitions, writes of the mode variables and CALL actuals naming them.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ModeFacts {
+    has_auto: bool,
+    has_manual: bool,
+    writes_manual: bool,
+    writes_automatic: bool,
+    mode_call_args: Vec<ModeCallArg>,
+}
+
+impl ModeFacts {
+    /// The facts of one member (`member` is its root).
+    pub(crate) fn of(member: &SyntaxNode) -> ModeFacts {
+        let mut interface = GraphInterface::default();
+        if let Some(trans) = ast::Trans::cast(member.clone()) {
+            mode_transition(&trans, &mut interface);
+        }
+        collect_mode_writes(member, &mut interface);
+        ModeFacts {
+            has_auto: interface.has_auto,
+            has_manual: interface.has_manual,
+            writes_manual: interface.writes_manual,
+            writes_automatic: interface.writes_automatic,
+            mode_call_args: interface.mode_call_args,
+        }
+    }
+
+    /// Adds the facts of further members (in text order).
+    pub(crate) fn merge(&mut self, other: &ModeFacts) {
+        self.has_auto |= other.has_auto;
+        self.has_manual |= other.has_manual;
+        self.writes_manual |= other.writes_manual;
+        self.writes_automatic |= other.writes_automatic;
+        self.mode_call_args
+            .extend(other.mode_call_args.iter().cloned());
+    }
 }
 
 fn collect_vars(graph: &ast::Graph, interface: &mut GraphInterface) {
@@ -236,27 +284,24 @@ fn is_startup(trans: &ast::Trans) -> bool {
         .any(|o| operand_name(&o).is_some_and(|n| n.eq_ignore_ascii_case("INIT_SD")))
 }
 
-fn collect_mode_transitions(graph: &ast::Graph, interface: &mut GraphInterface) {
-    for trans in graph.transitions() {
-        let attributes: Vec<String> = trans
-            .attributes()
-            .filter_map(|a| a.keyword())
-            .map(|k| k.text().to_ascii_lowercase())
-            .collect();
-        if attributes.is_empty() || is_startup(&trans) {
-            continue;
-        }
-        interface.has_auto |= attributes.iter().any(|a| a == "auto");
-        interface.has_manual |= attributes.iter().any(|a| a == "manual");
+fn mode_transition(trans: &ast::Trans, interface: &mut GraphInterface) {
+    let attributes: Vec<String> = trans
+        .attributes()
+        .filter_map(|a| a.keyword())
+        .map(|k| k.text().to_ascii_lowercase())
+        .collect();
+    if attributes.is_empty() || is_startup(trans) {
+        return;
     }
+    interface.has_auto |= attributes.iter().any(|a| a == "auto");
+    interface.has_manual |= attributes.iter().any(|a| a == "manual");
 }
 
 /// Operations that write their operand (Appendix E; the edge operations read and write).
 const WRITING_OPS: [&str; 6] = ["=", "S", "R", "T", "FP", "FN"];
 
-fn collect_mode_writes(graph: &ast::Graph, interface: &mut GraphInterface) {
-    let statements = graph
-        .syntax()
+fn collect_mode_writes(member: &SyntaxNode, interface: &mut GraphInterface) {
+    let statements = member
         .descendants()
         .filter(|n| n.kind() == SyntaxKind::STL_STMT)
         .filter_map(ast::StlStmt::cast);
