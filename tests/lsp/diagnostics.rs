@@ -506,3 +506,150 @@ fn a_configuration_change_notification_reloads_higraph_toml() {
     );
     assert_eq!(server.shutdown_and_exit(), 0);
 }
+
+/// The byte offset of a 0-based line and UTF-16 column, clamped as the server clamps: a line
+/// past the last one is the end of the text, a column past the end of its line the end of the
+/// line's content, a column inside a character that character's start. Lines end at LF, CR LF
+/// or a lone CR.
+fn utf16_offset(text: &str, line: u32, column: u32) -> usize {
+    let bytes = text.as_bytes();
+    let mut start = 0;
+    for _ in 0..line {
+        let Some(at) = bytes[start..]
+            .iter()
+            .position(|&b| b == b'\n' || b == b'\r')
+        else {
+            return text.len();
+        };
+        let at = start + at;
+        start = at
+            + if bytes[at] == b'\r' && bytes.get(at + 1) == Some(&b'\n') {
+                2
+            } else {
+                1
+            };
+    }
+    let end = bytes[start..]
+        .iter()
+        .position(|&b| b == b'\n' || b == b'\r')
+        .map_or(text.len(), |at| start + at);
+    let mut units = 0;
+    for (at, c) in text[start..end].char_indices() {
+        if units + c.len_utf16() as u32 > column {
+            return start + at;
+        }
+        units += c.len_utf16() as u32;
+    }
+    end
+}
+
+/// `text` with a range of UTF-16 positions replaced (a reversed range is put in order).
+fn apply_utf16(text: &str, range: [u32; 4], new_text: &str) -> String {
+    let a = utf16_offset(text, range[0], range[1]);
+    let b = utf16_offset(text, range[2], range[3]);
+    let (start, end) = (a.min(b), a.max(b));
+    format!("{}{}{}", &text[..start], new_text, &text[end..])
+}
+
+/// The UTF-16 position of the end of `text`.
+fn end_of(text: &str) -> (u32, u32) {
+    let last = text.rsplit(['\n', '\r']).next().unwrap_or_default();
+    let lines =
+        text.matches('\n').count() + text.matches('\r').count() - text.matches("\r\n").count();
+    (lines as u32, last.encode_utf16().count() as u32)
+}
+
+/// The changes of one `didChange`: ranges and new texts.
+type Notification<'a> = Vec<([u32; 4], &'a str)>;
+
+#[test]
+fn keystroke_by_keystroke_edits_keep_diagnostics_equal_to_check() {
+    // Each keystroke reaches the analysis as a byte-offset edit that reparses one block; the
+    // server keeps the document's text and line index current edit by edit. After each group
+    // of keystrokes the published diagnostics must equal `check` on the same text.
+    let tree = rich_workspace();
+    let mut server = Server::indexed(&tree.path());
+    let path = "graphs/pumpe.higraph";
+    let uri = tree.uri(path);
+    let mut text = std::fs::read_to_string(tree.path().join(path)).expect("read");
+    open(&mut server, &uri, &text);
+    let mut version = 1;
+    let mut send = |server: &mut Server, text: &mut String, changes: &[([u32; 4], &str)]| {
+        version += 1;
+        let values = changes.iter().map(|(r, t)| change(*r, t)).collect();
+        edit(server, &uri, version, values);
+        for (range, new_text) in changes {
+            *text = apply_utf16(text, *range, new_text);
+        }
+        version
+    };
+    let typed = " U Motor; U Band;";
+    // Groups of notifications, each a list of changes.
+    let groups: Vec<Vec<Notification>> = vec![
+        // Typing into the state's condition, one character per notification.
+        typed
+            .char_indices()
+            .map(|(i, _)| {
+                let column = 22 + i as u32;
+                vec![([3, column, 3, column], &typed[i..=i])]
+            })
+            .collect(),
+        // Deleting half of it again, backwards.
+        (0..8)
+            .map(|i| {
+                let column = 22 + typed.len() as u32 - i;
+                vec![([3, column - 1, 3, column], "")]
+            })
+            .collect(),
+        // Line breaks (LF, CR LF, a lone CR) typed into a transition and removed again.
+        vec![
+            vec![([4, 16, 4, 16], "\n    ")],
+            vec![([5, 4, 5, 4], "U Band;\r\n    ")],
+            vec![([6, 0, 6, 0], "\r")],
+            vec![([5, 4, 7, 0], "")],
+        ],
+        // After the astral character of the comment (two UTF-16 units), and inside it.
+        vec![vec![([0, 18, 0, 18], " ß")], vec![([0, 17, 0, 17], "x")]],
+        // Several changes in one notification, one spanning members, one past the end.
+        vec![vec![
+            ([2, 0, 4, 2], "  in < Neu : BOOL; >\n  state 1 < >\n  "),
+            ([1, 6, 1, 11], "Kessel"),
+            ([99, 0, 99, 5], "\n// Ende\n"),
+        ]],
+        // The whole graph deleted and typed back in one paste.
+        vec![
+            vec![([1, 0, 99, 0], "")],
+            vec![(
+                [1, 0, 1, 0],
+                "graph Pumpe <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n",
+            )],
+        ],
+    ];
+    for (n, group) in groups.iter().enumerate() {
+        for changes in group {
+            send(&mut server, &mut text, changes);
+        }
+        // A run of `$` as long as the group number at the end: a lexer error that differs
+        // from every earlier one, so the diagnostics change and are published; once they
+        // are, everything before them has been applied.
+        let (line, column) = end_of(&text);
+        let marker = "$".repeat(n + 1);
+        let version = send(
+            &mut server,
+            &mut text,
+            &[([line, column, line, column], marker.as_str())],
+        );
+        server.wait_for_diagnostics(&uri, version);
+        server.drain(Duration::from_millis(100));
+        tree.file(path, &text);
+        assert_same(&server, &tree);
+        // The marker goes away with the next group's first edit.
+        let (line, end) = end_of(&text);
+        send(
+            &mut server,
+            &mut text,
+            &[([line, end - marker.len() as u32, line, end], "")],
+        );
+    }
+    assert_eq!(server.shutdown_and_exit(), 0);
+}

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use higraph_analysis::ide::{FilePosition, SourceChange};
-use higraph_analysis::{FileId, LineIndex, TextRange};
+use higraph_analysis::{LineIndex, TextRange};
 use tower_lsp_server::ls_types as lsp;
 
 use super::convert;
@@ -31,52 +31,6 @@ impl From<salsa::Cancelled> for HandlerError {
 
 /// What a handler returns.
 pub(crate) type HandlerResult<T> = Result<T, HandlerError>;
-
-/// The diagnostics of every file of the workspace by workspace path, as LSP diagnostics
-/// sorted like `check --format json` sorts them (`diagnostics.md` §4.4).
-pub(crate) fn publishable_diagnostics(
-    snapshot: &Snapshot,
-) -> HandlerResult<Vec<(String, Vec<lsp::Diagnostic>)>> {
-    let analysis = &snapshot.analysis;
-    let diagnostics = analysis.diagnostics_cancellable()?;
-    let files = analysis.files();
-    let indexes: Vec<LineIndex> = files
-        .iter()
-        .map(|file| LineIndex::new(file.contents.text()))
-        .collect();
-    let uris: Vec<Option<lsp::Uri>> = files.iter().map(|file| snapshot.uri(&file.path)).collect();
-    let encoding = snapshot.encoding;
-    let location = |file: FileId, range: TextRange| {
-        let i = file.0 as usize;
-        let uri = uris.get(i)?.clone()?;
-        Some(lsp::Location::new(
-            uri,
-            convert::range(indexes.get(i)?, range, encoding),
-        ))
-    };
-    Ok(diagnostics
-        .into_iter()
-        .filter_map(|(file, diagnostics)| {
-            let i = file.0 as usize;
-            let index = indexes.get(i)?;
-            let mut converted: Vec<lsp::Diagnostic> = diagnostics
-                .iter()
-                .map(|diagnostic| convert::diagnostic(diagnostic, index, encoding, location))
-                .collect();
-            converted.sort_by(|a, b| {
-                let key = |d: &lsp::Diagnostic| {
-                    let code = match &d.code {
-                        Some(lsp::NumberOrString::String(code)) => code.clone(),
-                        _ => String::new(),
-                    };
-                    (d.range.start, d.range.end, code, d.message.clone())
-                };
-                key(a).cmp(&key(b))
-            });
-            Some((files.get(i)?.path.clone(), converted))
-        })
-        .collect())
-}
 
 /// The workspace path, byte offset and line index of a request's document position; `None`
 /// when the document is not a file of the workspace.

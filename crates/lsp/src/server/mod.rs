@@ -13,6 +13,7 @@
 
 mod capabilities;
 mod convert;
+mod diagnostics;
 mod handlers;
 mod state;
 mod transport;

@@ -9,15 +9,21 @@
 //! cancels every running snapshot query (salsa), and waits until their snapshots are dropped,
 //! so snapshots live only as long as one request: never store one.
 //!
-//! After each batch of changes the world analyses the new revision on a thread of its own and
-//! publishes the diagnostics of every file whose diagnostics changed.
+//! After each batch of changes the world hands the new revision to the diagnostics thread
+//! ([`super::diagnostics`]) and publishes the diagnostics of every file whose diagnostics
+//! changed.
+//!
+//! Each open document keeps its text and a line index that follows every edit, and an edit
+//! reaches the database as byte-offset edits (`AnalysisHost::apply_edits`), so the parser
+//! reparses only the edited block. Snapshots reuse the open documents' line indexes, and the
+//! line indexes of other files are shared between snapshots until their text changes.
 
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
 
 use higraph_analysis::{
     Analysis, AnalysisHost, FileContents, LineIndex, PositionEncoding, WorkspaceData,
@@ -28,8 +34,8 @@ use tower_lsp_server::ls_types::{
 };
 
 use super::capabilities::ClientSupport;
-use super::handlers;
-use super::vfs::{Document, Documents, PathMap};
+use super::diagnostics::{DiagnosticsWorker, FileDiagnostics};
+use super::vfs::{Changed, Document, Documents, PathMap};
 use crate::workspace::{self, CONFIG_FILE, EXTENSION, FileFilter};
 
 /// Something for the world to do, in the order the client asked for it.
@@ -69,7 +75,7 @@ pub(crate) enum Task {
     /// The diagnostics of a revision, computed off the world's thread.
     DiagnosticsReady {
         revision: u64,
-        files: Vec<(String, Vec<lsp::Diagnostic>)>,
+        files: Vec<(String, FileDiagnostics)>,
     },
 }
 
@@ -149,8 +155,29 @@ pub(crate) struct Snapshot {
     /// The URIs of the open documents by workspace path, so answers name them as the client
     /// does.
     open_uris: Arc<HashMap<String, Uri>>,
-    /// Line indexes built so far for this request.
+    /// Line indexes used so far by this request; starts with those of the open documents.
     line_indexes: RefCell<HashMap<String, Arc<LineIndex>>>,
+    /// The line indexes of the files that are not open, shared by all snapshots.
+    shared_indexes: SharedLineIndexes,
+}
+
+/// The line indexes of files that are not open, by workspace path, with the contents they
+/// index (an index is reused while the database holds the same contents).
+type SharedLineIndexes = Arc<Mutex<HashMap<String, (Arc<FileContents>, Arc<LineIndex>)>>>;
+
+/// Identifies the URIs a snapshot gives files: equal keys give equal URIs.
+#[derive(Clone)]
+pub(crate) struct UriKey {
+    paths: Arc<PathMap>,
+    open_uris: Arc<HashMap<String, Uri>>,
+}
+
+impl UriKey {
+    /// Whether both keys are of the same maps (kept alive by the keys, so the maps did not
+    /// change in place).
+    pub(crate) fn same(&self, other: &UriKey) -> bool {
+        Arc::ptr_eq(&self.paths, &other.paths) && Arc::ptr_eq(&self.open_uris, &other.open_uris)
+    }
 }
 
 impl Snapshot {
@@ -167,6 +194,14 @@ impl Snapshot {
         }
     }
 
+    /// What the URIs of this snapshot depend on.
+    pub(crate) fn uri_key(&self) -> UriKey {
+        UriKey {
+            paths: self.paths.clone(),
+            open_uris: self.open_uris.clone(),
+        }
+    }
+
     /// The line index of a file of the workspace (a `.higraph` file, `higraph.toml` or an
     /// imported symbol table), `None` if there is no such file.
     pub(crate) fn line_index(&self, path: &str) -> Option<Arc<LineIndex>> {
@@ -180,7 +215,20 @@ impl Snapshot {
                 files.into_iter().find(|file| file.path == path)?.contents
             }
         };
-        let index = Arc::new(LineIndex::new(contents.text()));
+        let shared = self.shared_indexes.lock().ok().and_then(|shared| {
+            let (indexed, index) = shared.get(path)?;
+            Arc::ptr_eq(indexed, &contents).then(|| index.clone())
+        });
+        let index = match shared {
+            Some(index) => index,
+            None => {
+                let index = Arc::new(LineIndex::new(contents.text()));
+                if let Ok(mut shared) = self.shared_indexes.lock() {
+                    shared.insert(path.to_owned(), (contents, index.clone()));
+                }
+                index
+            }
+        };
         self.line_indexes
             .borrow_mut()
             .insert(path.to_owned(), index.clone());
@@ -206,11 +254,15 @@ struct World {
     /// The revision whose diagnostics were last started.
     analysed: u64,
     /// The diagnostics last published, by workspace path, with the URI they went to.
-    published: HashMap<String, (Uri, Vec<lsp::Diagnostic>)>,
+    published: HashMap<String, (Uri, FileDiagnostics)>,
+    /// The line indexes of the files that are not open (see [`Snapshot`]).
+    shared_indexes: SharedLineIndexes,
+    /// Converts the diagnostics of each revision (started with the first one).
+    diagnostics: Option<DiagnosticsWorker>,
     /// Where to report indexing progress until the first diagnostics are published.
     index_progress: Option<async_mpsc::UnboundedSender<IndexProgress>>,
     to_client: async_mpsc::UnboundedSender<ToClient>,
-    /// The world's own inbox, for the diagnostics threads to answer.
+    /// The world's own inbox, for the diagnostics thread to answer.
     tasks: mpsc::Sender<Task>,
 }
 
@@ -227,6 +279,8 @@ impl World {
             revision: 0,
             analysed: 0,
             published: HashMap::new(),
+            shared_indexes: SharedLineIndexes::default(),
+            diagnostics: None,
             index_progress: None,
             to_client,
             tasks,
@@ -310,13 +364,22 @@ impl World {
     }
 
     fn snapshot(&self) -> Snapshot {
+        // The database holds exactly the text of an open source document, so its index
+        // serves.
+        let line_indexes = self
+            .documents
+            .iter()
+            .filter(|(_, document)| document.analysed)
+            .map(|(name, document)| (name.clone(), document.line_index.clone()))
+            .collect();
         Snapshot {
             analysis: self.host.analysis(),
             encoding: self.support.encoding,
             support: self.support,
             paths: self.paths.clone(),
             open_uris: self.open_uris.clone(),
-            line_indexes: RefCell::new(HashMap::new()),
+            line_indexes: RefCell::new(line_indexes),
+            shared_indexes: self.shared_indexes.clone(),
         }
     }
 
@@ -363,6 +426,10 @@ impl World {
         }
         self.host.load(data);
         self.revision += 1;
+        // Every file has new contents: the old indexes would never be used again.
+        if let Ok(mut shared) = self.shared_indexes.lock() {
+            shared.clear();
+        }
     }
 
     fn open(&mut self, uri: Uri, version: i32, language_id: &str, text: String) {
@@ -380,15 +447,8 @@ impl World {
             self.revision += 1;
         }
         Arc::make_mut(&mut self.open_uris).insert(name.clone(), uri.clone());
-        self.documents.open(
-            name,
-            Document {
-                uri,
-                version,
-                text,
-                analysed,
-            },
-        );
+        self.documents
+            .open(name, Document::new(uri, version, text, analysed));
     }
 
     fn change(&mut self, uri: &Uri, version: i32, changes: Vec<TextDocumentContentChangeEvent>) {
@@ -399,12 +459,26 @@ impl World {
             .documents
             .change(&name, version, changes, self.support.encoding)
         {
-            Ok(text) => {
-                let text = text.to_owned();
-                if self.documents.get(&name).is_some_and(|d| d.analysed) {
-                    self.host.upsert_file(&name, FileContents::Text(text));
-                    self.revision += 1;
+            Ok(changed) => {
+                let Some(document) = self.documents.get(&name).filter(|d| d.analysed) else {
+                    return;
+                };
+                // The byte-offset edits let the parser reparse only the edited block. The
+                // database must end with exactly the document's text; if it does not (or the
+                // whole text was replaced), the whole text is set.
+                let edited = match &changed {
+                    Changed::Edits(edits) if edits.is_empty() => return,
+                    Changed::Edits(edits) => self
+                        .host
+                        .apply_edits(&name, edits)
+                        .is_some_and(|text| text == document.text),
+                    Changed::Replaced => false,
+                };
+                if !edited {
+                    self.host
+                        .upsert_file(&name, FileContents::Text(document.text.clone()));
                 }
+                self.revision += 1;
             }
             Err(rejected) => self.log(
                 MessageType::WARNING,
@@ -493,43 +567,40 @@ impl World {
         }
     }
 
-    /// Analyses the current revision on a thread of its own; the result comes back as
-    /// [`Task::DiagnosticsReady`]. An edit meanwhile cancels it, and the next batch starts a
+    /// Hands the current revision to the diagnostics thread; the result comes back as
+    /// [`Task::DiagnosticsReady`]. An edit meanwhile cancels it, and the next batch queues a
     /// new one.
     fn start_diagnostics(&mut self) {
         self.analysed = self.revision;
-        let revision = self.revision;
-        let snapshot = self.snapshot();
-        let tasks = self.tasks.clone();
-        let to_client = self.to_client.clone();
-        let started = std::thread::Builder::new()
-            .name("higraph-diagnostics".into())
-            .spawn(
-                move || match super::catch(|| handlers::publishable_diagnostics(&snapshot)) {
-                    Ok(files) => {
-                        drop(snapshot);
-                        let _ = tasks.send(Task::DiagnosticsReady { revision, files });
+        // The thread ends only if it panicked outside a conversion (a bug): then one new
+        // thread is tried.
+        for _ in 0..2 {
+            if self.diagnostics.is_none() {
+                match DiagnosticsWorker::spawn(self.tasks.clone(), self.to_client.clone()) {
+                    Ok(worker) => self.diagnostics = Some(worker),
+                    Err(error) => {
+                        self.log(
+                            MessageType::ERROR,
+                            format!("cannot start the diagnostics thread: {error}"),
+                        );
+                        return;
                     }
-                    Err(super::Failure::Cancelled) => {}
-                    Err(failure) => {
-                        let _ = to_client.send(ToClient::Log {
-                            kind: MessageType::ERROR,
-                            message: format!("cannot compute diagnostics: {failure}"),
-                        });
-                    }
-                },
-            );
-        if let Err(error) = started {
-            self.log(
-                MessageType::ERROR,
-                format!("cannot start the diagnostics thread: {error}"),
-            );
+                }
+            }
+            let snapshot = self.snapshot();
+            if let Some(worker) = &self.diagnostics {
+                if worker.analyse(self.revision, snapshot) {
+                    return;
+                }
+            }
+            self.diagnostics = None;
         }
+        self.log(MessageType::ERROR, "the diagnostics thread stopped".into());
     }
 
     /// Publishes the diagnostics of every file whose diagnostics changed since they were last
     /// published; a file that has none any more gets an empty list.
-    fn publish(&mut self, files: Vec<(String, Vec<lsp::Diagnostic>)>) {
+    fn publish(&mut self, files: Vec<(String, FileDiagnostics)>) {
         let mut current: HashSet<String> = HashSet::new();
         for (name, diagnostics) in files {
             current.insert(name.clone());
@@ -544,7 +615,8 @@ impl World {
             let previous = self.published.get(&name);
             let unchanged = match previous {
                 Some((published_uri, published)) => {
-                    *published_uri == uri && *published == diagnostics
+                    *published_uri == uri
+                        && (Arc::ptr_eq(published, &diagnostics) || *published == diagnostics)
                 }
                 None => diagnostics.is_empty(),
             };
@@ -562,7 +634,7 @@ impl World {
             let version = self.documents.get(&name).map(|d| d.version);
             let _ = self.to_client.send(ToClient::Publish {
                 uri: uri.clone(),
-                diagnostics: diagnostics.clone(),
+                diagnostics: diagnostics.to_vec(),
                 version,
             });
             if diagnostics.is_empty() {

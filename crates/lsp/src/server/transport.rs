@@ -301,10 +301,12 @@ async fn write_messages<O: AsyncWrite + Unpin>(
     while let Some(item) = outbox.recv().await {
         match item {
             Outgoing::Message(body) => {
-                let header = format!("Content-Length: {}\r\n\r\n", body.len());
+                // One write for header and body: each write to tokio's stdout is a round trip
+                // to a blocking thread, and the body waits for the header's.
+                let mut frame = format!("Content-Length: {}\r\n\r\n", body.len()).into_bytes();
+                frame.extend_from_slice(body.as_bytes());
                 let written = async {
-                    output.write_all(header.as_bytes()).await?;
-                    output.write_all(body.as_bytes()).await?;
+                    output.write_all(&frame).await?;
                     output.flush().await
                 }
                 .await;

@@ -6,8 +6,10 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use higraph_analysis::{LineIndex, PositionEncoding};
+use higraph_syntax::Edit;
 use tower_lsp_server::ls_types::{TextDocumentContentChangeEvent, Uri};
 
 use super::convert;
@@ -100,9 +102,35 @@ pub(crate) struct Document {
     pub version: i32,
     /// The current text.
     pub text: String,
+    /// The line index of `text`, kept current edit by edit (shared with snapshots).
+    pub line_index: Arc<LineIndex>,
     /// Whether the document is a source file the analysis sees (a `.higraph` file or a
     /// document of language `higraph`); `higraph.toml` and symbol tables are only tracked.
     pub analysed: bool,
+}
+
+impl Document {
+    /// A document with `text`, indexed.
+    pub(crate) fn new(uri: Uri, version: i32, text: String, analysed: bool) -> Document {
+        let line_index = Arc::new(LineIndex::new(&text));
+        Document {
+            uri,
+            version,
+            text,
+            line_index,
+            analysed,
+        }
+    }
+}
+
+/// What one `didChange` notification did to a document's text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum Changed {
+    /// Byte-offset replacements, in order (each range refers to the text the edits before it
+    /// left), as [`higraph_analysis::AnalysisHost::apply_edits`] takes them.
+    Edits(Vec<Edit>),
+    /// The whole text was replaced.
+    Replaced,
 }
 
 /// Why a change notification was ignored.
@@ -153,15 +181,16 @@ impl Documents {
         self.open.iter()
     }
 
-    /// Applies the changes of one `didChange` notification, in order, and returns the new
-    /// text. Ranges are in `encoding`; out-of-range positions are clamped, never a panic.
+    /// Applies the changes of one `didChange` notification, in order, and says what they did.
+    /// Ranges are in `encoding`; out-of-range positions are clamped, never a panic. The line
+    /// index follows the text: a ranged change rescans only the lines around it.
     pub(crate) fn change(
         &mut self,
         name: &str,
         version: i32,
         changes: Vec<TextDocumentContentChangeEvent>,
         encoding: PositionEncoding,
-    ) -> Result<&str, ChangeRejected> {
+    ) -> Result<Changed, ChangeRejected> {
         let document = self.open.get_mut(name).ok_or(ChangeRejected::NotOpen)?;
         if version <= document.version {
             return Err(ChangeRejected::Stale {
@@ -169,35 +198,56 @@ impl Documents {
                 got: version,
             });
         }
+        let mut edits = Vec::new();
+        let mut replaced = false;
         for change in changes {
-            apply_change(&mut document.text, change, encoding);
+            match apply_change(
+                &mut document.text,
+                Arc::make_mut(&mut document.line_index),
+                change,
+                encoding,
+            ) {
+                Some(edit) => edits.push(edit),
+                None => replaced = true,
+            }
         }
         document.version = version;
-        Ok(&document.text)
+        Ok(if replaced {
+            Changed::Replaced
+        } else {
+            Changed::Edits(edits)
+        })
     }
 }
 
-/// Applies one content change: a ranged replacement, or the whole text when there is no
-/// range.
+/// Applies one content change to `text` and its line index: a ranged replacement (returned as
+/// a byte-offset edit), or the whole text when there is no range (`None`).
 pub(crate) fn apply_change(
     text: &mut String,
+    index: &mut LineIndex,
     change: TextDocumentContentChangeEvent,
     encoding: PositionEncoding,
-) {
+) -> Option<Edit> {
     let Some(range) = change.range else {
         *text = change.text;
-        return;
+        *index = LineIndex::new(text);
+        return None;
     };
-    let index = LineIndex::new(text);
-    let range = convert::text_range(&index, range, encoding);
+    let range = convert::text_range(index, range, encoding);
     text.replace_range(
         usize::from(range.start())..usize::from(range.end()),
         &change.text,
     );
+    index.apply_edit(range, text);
+    Some(Edit {
+        delete: range,
+        insert: change.text,
+    })
 }
 
 #[cfg(test)]
 mod tests {
+    use higraph_analysis::TextRange;
     use tower_lsp_server::ls_types::{Position, Range};
 
     use super::*;
@@ -215,21 +265,37 @@ mod tests {
         }
     }
 
+    /// Applies a change to a text and checks that the edit and the kept line index agree
+    /// with the text.
+    fn apply(
+        text: &mut String,
+        change: TextDocumentContentChangeEvent,
+        encoding: PositionEncoding,
+    ) {
+        let before = text.clone();
+        let mut index = LineIndex::new(text);
+        let edit = apply_change(text, &mut index, change, encoding);
+        assert_eq!(index, LineIndex::new(text));
+        if let Some(edit) = edit {
+            assert_eq!(edit.apply(&before).as_deref(), Some(text.as_str()));
+        }
+    }
+
     #[test]
     fn ranged_changes_apply_in_order() {
         let mut text = "graph A <\n  in < x : BOOL; >\n>\n".to_owned();
-        apply_change(
+        apply(
             &mut text,
             change(Some(((1, 7), (1, 8))), "Oben"),
             PositionEncoding::Utf16,
         );
-        apply_change(
+        apply(
             &mut text,
             change(Some(((0, 6), (0, 7))), "Ventil"),
             PositionEncoding::Utf16,
         );
         assert_eq!(text, "graph Ventil <\n  in < Oben : BOOL; >\n>\n");
-        apply_change(&mut text, change(None, "x"), PositionEncoding::Utf16);
+        apply(&mut text, change(None, "x"), PositionEncoding::Utf16);
         assert_eq!(text, "x");
     }
 
@@ -238,14 +304,14 @@ mod tests {
         // `😀` is 2 UTF-16 units and 4 UTF-8 bytes; `ü` is 1 unit and 2 bytes.
         let original = "// 😀ü x\n";
         let mut utf16 = original.to_owned();
-        apply_change(
+        apply(
             &mut utf16,
             change(Some(((0, 7), (0, 8))), "y"),
             PositionEncoding::Utf16,
         );
         assert_eq!(utf16, "// 😀ü y\n");
         let mut utf8 = original.to_owned();
-        apply_change(
+        apply(
             &mut utf8,
             change(Some(((0, 10), (0, 11))), "y"),
             PositionEncoding::Utf8,
@@ -256,13 +322,13 @@ mod tests {
     #[test]
     fn out_of_range_and_reversed_ranges_are_clamped() {
         let mut text = "ab\ncd".to_owned();
-        apply_change(
+        apply(
             &mut text,
             change(Some(((9, 0), (99, 99))), "!"),
             PositionEncoding::Utf16,
         );
         assert_eq!(text, "ab\ncd!");
-        apply_change(
+        apply(
             &mut text,
             change(Some(((0, 2), (0, 1))), ""),
             PositionEncoding::Utf16,
@@ -270,7 +336,7 @@ mod tests {
         assert_eq!(text, "a\ncd!");
         // Inside a surrogate pair: the start of the character.
         let mut text = "😀".to_owned();
-        apply_change(
+        apply(
             &mut text,
             change(Some(((0, 1), (0, 1))), "x"),
             PositionEncoding::Utf16,
@@ -286,15 +352,7 @@ mod tests {
             documents.change("a.higraph", 2, vec![], PositionEncoding::Utf16),
             Err(ChangeRejected::NotOpen)
         );
-        documents.open(
-            "a.higraph".into(),
-            Document {
-                uri,
-                version: 3,
-                text: "a".into(),
-                analysed: true,
-            },
-        );
+        documents.open("a.higraph".into(), Document::new(uri, 3, "a".into(), true));
         assert_eq!(
             documents.change(
                 "a.higraph",
@@ -311,8 +369,27 @@ mod tests {
                 vec![change(None, "b")],
                 PositionEncoding::Utf16
             ),
-            Ok("b")
+            Ok(Changed::Replaced)
         );
+        assert_eq!(
+            documents.get("a.higraph").map(|d| d.text.as_str()),
+            Some("b")
+        );
+        assert_eq!(
+            documents.change(
+                "a.higraph",
+                5,
+                vec![change(Some(((0, 1), (0, 1))), "c\n")],
+                PositionEncoding::Utf16
+            ),
+            Ok(Changed::Edits(vec![Edit {
+                delete: TextRange::new(1.into(), 1.into()),
+                insert: "c\n".into()
+            }]))
+        );
+        let document = documents.get("a.higraph").expect("open");
+        assert_eq!(document.text, "bc\n");
+        assert_eq!(*document.line_index, LineIndex::new("bc\n"));
     }
 
     #[test]
