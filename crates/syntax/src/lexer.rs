@@ -24,8 +24,8 @@ pub fn tokenize(text: &str) -> Vec<Token<'_>> {
     tokens
 }
 
-/// The tokens of a text, in order (what [`tokenize`] collects; the parser consumes them
-/// directly).
+/// The tokens of a text, in order (what [`tokenize`] collects). The parser runs the same
+/// rules in its own loop (`Parser::new`).
 pub(crate) struct Tokens<'a> {
     lexer: logos::Lexer<'a, SyntaxKind>,
     /// Offset of the lexer's input in the text (after a byte-order mark).
