@@ -255,6 +255,8 @@ pub struct Chunk<'db> {
 pub struct GraphLayout<'db> {
     pub chunks: Vec<Chunk<'db>>,
     pub offsets: Vec<TextSize>,
+    /// See [`GraphFacts::virtual_ok`].
+    pub virtual_ok: bool,
 }
 
 /// Where chunks end is decided by the members themselves (content-defined chunking): after a
@@ -281,11 +283,14 @@ pub fn graph_layout<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Gr
         return layout;
     }
     let mut offset = TextSize::from(0);
+    layout.virtual_ok = true;
     for child in graph.children() {
         let len = child.text_len();
         if let NodeOrToken::Node(body) = child
             && body.kind() == SyntaxKind::BODY.into()
         {
+            layout.virtual_ok = u32::from(offset) < crate::rules::graph::VirtualLayout::SLOT
+                && body.children().len() < crate::rules::graph::VirtualLayout::MAX_MEMBERS;
             let mut at = offset;
             let mut chunk: Vec<(MemberGreen, TextSize)> = Vec::new();
             let mut start = at;
@@ -293,6 +298,9 @@ pub fn graph_layout<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Gr
                 if let NodeOrToken::Node(node) = element {
                     if chunk.is_empty() {
                         start = at;
+                    }
+                    if u32::from(node.text_len()) >= crate::rules::graph::VirtualLayout::SLOT {
+                        layout.virtual_ok = false;
                     }
                     let member = MemberGreen(node.to_owned());
                     let done = ends_chunk(&member, chunk.len() + 1);
@@ -319,12 +327,90 @@ pub fn graph_layout<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Gr
 /// The facts of every member of a chunk, in order. A chunk is small, so recomputing it
 /// whole after an edit costs less than salsa would spend verifying per-member queries.
 #[salsa::tracked(returns(ref))]
-pub fn chunk_facts<'db>(db: &'db dyn salsa::Database, chunk: Chunk<'db>) -> Vec<MemberFacts> {
+pub fn chunk_facts<'db>(db: &'db dyn salsa::Database, chunk: Chunk<'db>) -> Arc<[MemberFacts]> {
     chunk
         .members(db)
         .iter()
         .map(|(green, _)| MemberFacts::of(&green.root()))
         .collect()
+}
+
+/// The facts of every member of a graph, in text order, without positions: equal as long as
+/// no member's facts change, whatever an edit did to offsets or chunk boundaries. The
+/// graph's structure rules depend on this alone ([`graph_structure`]), so a keystroke that
+/// changes no fact (most keystrokes in instructions) does not run them.
+#[derive(Debug, Clone, Eq, Default)]
+pub struct GraphFacts {
+    pub chunks: Vec<Arc<[MemberFacts]>>,
+    /// Can positions be expressed as (member, offset in member) in the virtual layout of
+    /// [`crate::rules::graph::VirtualLayout`]? (Members shorter than 64 KiB, fewer than
+    /// 65535 of them, the graph's `<` within its first 64 KiB.)
+    pub virtual_ok: bool,
+}
+
+impl GraphFacts {
+    pub fn members(&self) -> impl Iterator<Item = &MemberFacts> + Clone {
+        self.chunks.iter().flat_map(|c| c.iter())
+    }
+}
+
+impl PartialEq for GraphFacts {
+    fn eq(&self, other: &GraphFacts) -> bool {
+        let same_chunks = self.chunks.len() == other.chunks.len()
+            && self
+                .chunks
+                .iter()
+                .zip(&other.chunks)
+                .all(|(a, b)| Arc::ptr_eq(a, b));
+        self.virtual_ok == other.virtual_ok && (same_chunks || self.members().eq(other.members()))
+    }
+}
+
+/// The member facts of a graph item (empty for other items).
+#[salsa::tracked(returns(ref))]
+pub fn graph_facts<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> GraphFacts {
+    let layout = graph_layout(db, item);
+    GraphFacts {
+        chunks: layout
+            .chunks
+            .iter()
+            .map(|&chunk| chunk_facts(db, chunk).clone())
+            .collect(),
+        virtual_ok: layout.virtual_ok,
+    }
+}
+
+/// What the structure rules of a graph found, with positions in the virtual layout (see
+/// [`crate::rules::graph::VirtualLayout`]), and the priorities transition labels show.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct GraphStructure {
+    pub diags: Vec<Diag>,
+    /// Per transition, in text order: the priority its label shows (§2.3), if any.
+    pub label_prios: Vec<Option<u64>>,
+}
+
+/// The structure rules of a graph (numbering, endpoints, priorities, startup, reachability,
+/// operating modes) on its member facts and header. Positions do not move with edits, so
+/// this is recomputed only when a fact or the header changes.
+#[salsa::tracked(returns(ref))]
+pub fn graph_structure<'db>(
+    db: &'db dyn salsa::Database,
+    ws: Workspace,
+    item: ItemLoc<'db>,
+) -> GraphStructure {
+    rules::check_graph_structure(db, ws, item)
+}
+
+/// The header of a graph item, as the structure rules need it (`None` for other items).
+#[salsa::tracked(returns(ref))]
+pub(crate) fn graph_header<'db>(
+    db: &'db dyn salsa::Database,
+    item: ItemLoc<'db>,
+) -> Option<rules::graph::GraphHeader> {
+    match item_root(db, item).and_then(ast::Item::cast) {
+        Some(ast::Item::Graph(graph)) => Some(rules::graph::GraphHeader::of(&graph)),
+        _ => None,
+    }
 }
 
 /// What a graph declares (the scope its operands resolve in), without uses.
@@ -365,7 +451,7 @@ pub(crate) fn chunk_stl<'db>(
 ) -> rules::stl::MemberStl {
     let mut merged = rules::stl::MemberStl::default();
     let mut prios = label_prios.into_iter();
-    for ((green, offset), facts) in chunk.members(db).iter().zip(chunk_facts(db, chunk)) {
+    for ((green, offset), facts) in chunk.members(db).iter().zip(chunk_facts(db, chunk).iter()) {
         let label_prio = match facts {
             MemberFacts::Trans(_) => prios.next().flatten(),
             MemberFacts::State(_) | MemberFacts::Permanent { .. } => None,

@@ -127,6 +127,22 @@ impl Diag {
         self.map_locs(|loc| loc.shifted(offset))
     }
 
+    /// The diagnostic with every range of the current item mapped by `f` (places in other
+    /// items or files are left alone).
+    pub fn map_ranges(&self, f: impl Fn(TextRange) -> TextRange) -> Diag {
+        let (file, item) = (self.at.file, self.at.item);
+        self.map_locs(|loc| {
+            if loc.file == file && loc.item == item {
+                Loc {
+                    range: f(loc.range),
+                    ..loc
+                }
+            } else {
+                loc
+            }
+        })
+    }
+
     fn map_locs(&self, f: impl Fn(Loc) -> Loc) -> Diag {
         let mut diag = self.clone();
         diag.at = f(diag.at);

@@ -153,7 +153,7 @@ pub(crate) fn graph_members<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db
     };
     // States from the cached member facts, so an edit does not walk the whole graph.
     for &chunk in &db::graph_layout(db, item).chunks {
-        for facts in db::chunk_facts(db, chunk) {
+        for facts in db::chunk_facts(db, chunk).iter() {
             let MemberFacts::State(state) = facts else {
                 continue;
             };

@@ -7,7 +7,12 @@
 //! * `priority` — HG2301–HG2306 (priorities per range, §2.6);
 //! * `modes` — HG3001–HG3003, HG3007, HG3101, HG3102 (wait times, operating modes);
 //! * `model` — the graph as these rules see it, and [`effective_priorities`] for the
-//!   formatter.
+//!   formatter; `facts` — what the model is built from, per member.
+//!
+//! The structure rules (`structure`, `startup`, `priority`, `modes`) see only member facts
+//! and a [`GraphHeader`], never positions of the item: their findings are placed in a
+//! [`VirtualLayout`] and moved to the real positions afterwards, so that a keystroke, which
+//! moves every member after it, leaves their result equal (salsa then does not run them).
 //!
 //! Time values themselves (HG3004–HG3006, HG3008) are checked with the STL operands.
 
@@ -19,7 +24,7 @@ mod priority;
 mod startup;
 mod structure;
 
-use higraph_syntax::ast;
+use higraph_syntax::{TextRange, TextSize, ast, ast::AstNode};
 
 use super::edit;
 // Re-exported for the formatter; `rules/mod.rs` has to make `graph` visible to it.
@@ -28,14 +33,129 @@ pub(crate) use self::model::GraphModel;
 pub use self::model::effective_priorities;
 use super::Ctx;
 
-/// Runs every graph rule of this module on one graph, whose members `model` describes.
-pub(crate) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
-    decls::check_variables(ctx, graph, &format!("graph {}", model.name));
+/// The declaration rules of a graph (its variable sections and `activate`), on its tree.
+pub(crate) fn check_declarations(ctx: &mut Ctx<'_>, graph: &ast::Graph, name: &str) {
+    decls::check_variables(ctx, graph, &format!("graph {name}"));
     decls::check_activate(ctx, graph);
-    structure::check(ctx, graph, model);
-    startup::check(ctx, graph, model);
+}
+
+/// The structure rules of a graph, on its member facts (`model`) and header.
+pub(crate) fn check_structure(ctx: &mut Ctx<'_>, header: &GraphHeader, model: &GraphModel<'_>) {
+    structure::check(ctx, header, model);
+    startup::check(ctx, header, model);
     priority::check(ctx, model);
     modes::check(ctx, model);
+}
+
+/// What the structure rules need of a graph besides its members. Its positions lie in the
+/// graph's header, before the first member, where edits of members do not move them.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct GraphHeader {
+    pub name: String,
+    /// The name token.
+    pub name_range: Option<TextRange>,
+    /// Does the graph declare a variable `INIT_SD` (then no transition is a startup one)?
+    pub declares_init_sd: bool,
+    /// Where a new member goes (the fix of HG2201).
+    pub insertion: Option<Insertion>,
+}
+
+/// Where a new member of a graph goes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Insertion {
+    /// On a new line after the last member, with its indentation.
+    AfterMember {
+        ordinal: usize,
+        len: TextSize,
+        indent: String,
+    },
+    /// On a line of its own after the body's `<`.
+    AfterOpen(TextSize),
+}
+
+impl GraphHeader {
+    pub(crate) fn of(graph: &ast::Graph) -> GraphHeader {
+        let name_token = graph.name().and_then(|n| n.token());
+        let body = graph.body();
+        let insertion = body.as_ref().and_then(|body| {
+            let members = body.syntax().children().count();
+            match body.syntax().last_child() {
+                Some(last) => Some(Insertion::AfterMember {
+                    ordinal: members - 1,
+                    len: last.text_range().len(),
+                    indent: edit::indentation(&last),
+                }),
+                None => body
+                    .l_angle()
+                    .map(|open| Insertion::AfterOpen(open.text_range().end())),
+            }
+        });
+        GraphHeader {
+            name: name_token
+                .as_ref()
+                .map(|t| t.text().to_owned())
+                .unwrap_or_default(),
+            name_range: name_token.map(|t| t.text_range()),
+            declares_init_sd: declares_variable(graph, "INIT_SD"),
+            insertion,
+        }
+    }
+
+    /// The insertion of `member` as a text edit in `layout`.
+    pub(crate) fn insert_member(
+        &self,
+        layout: &VirtualLayout,
+        member: &str,
+    ) -> Option<(TextRange, String)> {
+        match self.insertion.as_ref()? {
+            Insertion::AfterMember {
+                ordinal,
+                len,
+                indent,
+            } => Some((
+                TextRange::empty(layout.offset(*ordinal) + *len),
+                format!("\n{indent}{member}"),
+            )),
+            Insertion::AfterOpen(at) => Some((TextRange::empty(*at), format!("\n  {member}\n"))),
+        }
+    }
+}
+
+/// Where the structure rules place members: either at their real offsets, or — so that their
+/// results do not depend on where members stand — member `i` at `(i + 1) × 64 KiB`, with the
+/// graph's header (positions before the first member) at its real offsets in the first
+/// 64 KiB. [`VirtualLayout::place`] turns a virtual position back into a real one.
+#[derive(Debug, Clone)]
+pub enum VirtualLayout {
+    Virtual,
+    Real(Vec<TextSize>),
+}
+
+impl VirtualLayout {
+    /// The size of a member's slot.
+    pub const SLOT: u32 = 1 << 16;
+    /// The most members the virtual layout holds.
+    pub const MAX_MEMBERS: usize = (u32::MAX / Self::SLOT) as usize - 1;
+
+    /// Where member `ordinal` starts.
+    pub fn offset(&self, ordinal: usize) -> TextSize {
+        match self {
+            VirtualLayout::Virtual => TextSize::from((ordinal as u32 + 1) * Self::SLOT),
+            VirtualLayout::Real(offsets) => offsets.get(ordinal).copied().unwrap_or_default(),
+        }
+    }
+
+    /// The real position of a virtual one, given the real offsets of the members.
+    pub fn place(position: TextSize, offsets: &[TextSize]) -> TextSize {
+        let position = u32::from(position);
+        match (position / Self::SLOT) as usize {
+            0 => position.into(),
+            slot => {
+                offsets.get(slot - 1).copied().unwrap_or_default()
+                    + TextSize::from(position % Self::SLOT)
+            }
+        }
+    }
 }
 
 /// Does the graph declare a variable of this name (any section)?

@@ -154,38 +154,41 @@ pub(crate) fn check_item(
     ctx.out
 }
 
-/// A graph: its names and declarations from its own tree; its structure from the cached facts
-/// of its members ([`db::chunk_facts`]); its STL chunk by chunk ([`db::chunk_stl`]), so that
-/// an edit in one member re-analyses only the chunk of members around it.
+/// A graph: its names and declarations from its own tree; its structure from its member
+/// facts ([`db::graph_structure`], placed afterwards); its STL chunk by chunk
+/// ([`db::chunk_stl`]). After a keystroke in one member, only the chunk of members around it
+/// is analysed again, and the structure rules only if the member's facts changed.
 fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     let db = ctx.db;
     names::check_graph(ctx, graph);
+    let name = graph.name().map(|n| n.text()).unwrap_or_default();
+    graph::check_declarations(ctx, graph, &name);
+
     let layout = db::graph_layout(db, item);
-    let chunks: Vec<&[MemberFacts]> = layout
-        .chunks
-        .iter()
-        .map(|&chunk| db::chunk_facts(db, chunk).as_slice())
-        .collect();
-    let mut facts: Vec<(TextSize, &MemberFacts)> = Vec::new();
-    for ((chunk, &start), chunk_facts) in layout.chunks.iter().zip(&layout.offsets).zip(&chunks) {
-        let offsets = chunk.members(db).iter().map(|(_, offset)| start + *offset);
-        facts.extend(offsets.zip(chunk_facts.iter()));
+    let structure = db::graph_structure(db, ctx.ws, item);
+    if !structure.diags.is_empty() {
+        // Back from the virtual layout: the real offset of every member.
+        let mut offsets = Vec::new();
+        for (chunk, &start) in layout.chunks.iter().zip(&layout.offsets) {
+            offsets.extend(chunk.members(db).iter().map(|(_, offset)| start + *offset));
+        }
+        let place = |at: TextSize| graph::VirtualLayout::place(at, &offsets);
+        for diag in &structure.diags {
+            ctx.out.diags.push(if layout.virtual_ok {
+                diag.map_ranges(|r| TextRange::new(place(r.start()), place(r.end())))
+            } else {
+                diag.clone()
+            });
+        }
     }
-    let model = graph::GraphModel::new(
-        graph.name().map(|n| n.text()).unwrap_or_default(),
-        facts.iter().copied(),
-        graph::declares_variable(graph, "INIT_SD"),
-    );
-    graph::check(ctx, graph, &model);
 
     let Some(scope) = db::graph_scope(db, item) else {
         return;
     };
-    let mut label_prios =
-        stl::transition_label_priorities(facts.iter().map(|(_, f)| *f)).into_iter();
+    let mut label_prios = structure.label_prios.iter().copied();
     let mut found = stl::MemberStl::default();
-    for ((&chunk, &start), chunk_facts) in layout.chunks.iter().zip(&layout.offsets).zip(&chunks) {
-        let transitions = chunk_facts
+    for (&chunk, &start) in layout.chunks.iter().zip(&layout.offsets) {
+        let transitions = db::chunk_facts(db, chunk)
             .iter()
             .filter(|f| matches!(f, MemberFacts::Trans(_)))
             .count();
@@ -202,6 +205,40 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     }
     scope.used_predefined.extend(found.used_predefined);
     stl::report_unused_in_graph(ctx, &scope);
+}
+
+/// The structure rules of a graph on its member facts ([`db::graph_structure`]).
+pub(crate) fn check_graph_structure(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    item: ItemLoc<'_>,
+) -> db::GraphStructure {
+    let Some(header) = db::graph_header(db, item) else {
+        return db::GraphStructure::default();
+    };
+    let facts = db::graph_facts(db, item);
+    let layout = if facts.virtual_ok {
+        graph::VirtualLayout::Virtual
+    } else {
+        let layout = db::graph_layout(db, item);
+        let mut offsets = Vec::new();
+        for (chunk, &start) in layout.chunks.iter().zip(&layout.offsets) {
+            offsets.extend(chunk.members(db).iter().map(|(_, offset)| start + *offset));
+        }
+        graph::VirtualLayout::Real(offsets)
+    };
+    let model = graph::GraphModel::new(
+        header.name.clone(),
+        facts.members(),
+        header.declares_init_sd,
+        layout,
+    );
+    let mut ctx = Ctx::for_item(db, ws, item);
+    graph::check_structure(&mut ctx, header, &model);
+    db::GraphStructure {
+        diags: ctx.out.diags,
+        label_prios: stl::transition_label_priorities(facts.members()),
+    }
 }
 
 /// The STL analysis of one member of a graph item (`member` is the member's own tree).

@@ -11,6 +11,7 @@ use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use higraph_syntax::{TextRange, TextSize, ast, ast::AstNode};
 
+use super::VirtualLayout;
 use super::facts::{
     AttrFact, BodyItemFact, EndFact, EndpointFact, MemberFacts, StateFacts, TransFacts,
 };
@@ -264,16 +265,19 @@ pub(crate) struct GraphModel<'a> {
     state_attributes: Vec<(TextSize, &'a [AttrFact])>,
     /// `wait`/`supervise` items of transitions and `permanent` blocks, in text order.
     pub misplaced: Vec<BodyItem>,
+    /// Where the members stand.
+    pub layout: VirtualLayout,
 }
 
 impl<'a> GraphModel<'a> {
-    /// Builds the model from the facts of the graph's members and their offsets in the item.
+    /// Builds the model from the facts of the graph's members, placed in `layout`.
     /// `declares_init_sd`: the graph declares a variable `INIT_SD` (then no transition is a
     /// startup transition).
     pub fn new(
         name: String,
-        members: impl IntoIterator<Item = (TextSize, &'a MemberFacts)>,
+        members: impl IntoIterator<Item = &'a MemberFacts>,
         declares_init_sd: bool,
+        layout: VirtualLayout,
     ) -> GraphModel<'a> {
         let mut model = GraphModel {
             name,
@@ -284,9 +288,11 @@ impl<'a> GraphModel<'a> {
             leaving: Vec::new(),
             state_attributes: Vec::new(),
             misplaced: Vec::new(),
+            layout,
         };
         let mut trans_facts = Vec::new();
-        for (offset, facts) in members {
+        for (ordinal, facts) in members.into_iter().enumerate() {
+            let offset = model.layout.offset(ordinal);
             match facts {
                 MemberFacts::State(state) => {
                     model.state_attributes.push((offset, &state.attributes));
@@ -507,11 +513,7 @@ pub fn effective_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
         .flat_map(|b| b.syntax().children())
         .map(|m| MemberFacts::of(&m))
         .collect();
-    let model = GraphModel::new(
-        String::new(),
-        facts.iter().map(|f| (TextSize::from(0), f)),
-        false,
-    );
+    let model = GraphModel::new(String::new(), &facts, false, VirtualLayout::Virtual);
     model.transitions.iter().map(|t| t.priority).collect()
 }
 

@@ -4,18 +4,18 @@
 
 use std::collections::BTreeSet;
 
-use higraph_syntax::{TextRange, ast, ast::AstNode};
+use higraph_syntax::TextRange;
 
 use super::{
-    edit,
+    GraphHeader,
     model::{GraphModel, PrioRange},
 };
 use crate::{lang, rules::Ctx};
 
 /// Runs the startup and reachability rules.
-pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
+pub(super) fn check(ctx: &mut Ctx<'_>, header: &GraphHeader, model: &GraphModel<'_>) {
     if model.startups().next().is_none() {
-        missing_startup(ctx, graph, model);
+        missing_startup(ctx, header, model);
     } else {
         check_startups(ctx, model);
         check_reachability(ctx, model);
@@ -24,15 +24,15 @@ pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_
 }
 
 /// HG2201, with the fix that inserts a startup transition.
-fn missing_startup(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
-    let Some(name) = graph.name().and_then(|n| n.token()) else {
+fn missing_startup(ctx: &mut Ctx<'_>, header: &GraphHeader, model: &GraphModel<'_>) {
+    let Some(name_range) = header.name_range else {
         return;
     };
     let message = format!(
         "graph {} has no startup transition (an any-transition that queries INIT_SD), so it has no initial state",
         model.name
     );
-    let mut diag = ctx.diag("HG2201", name.text_range(), message);
+    let mut diag = ctx.diag("HG2201", name_range, message);
     let state = model
         .states
         .iter()
@@ -43,30 +43,12 @@ fn missing_startup(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>
     let prio = model.lowest_free_priority(PrioRange::Any);
     let op = lang::op_in_set("U", ctx.mnemonic);
     let member = format!("trans any->{state} prio {prio} \"startup\" < {op} INIT_SD; >");
-    if let Some((at, text)) = member_insertion(graph, &member) {
+    if let Some((at, text)) = header.insert_member(&model.layout, &member) {
         diag = diag.fix("Insert a startup transition", ctx.loc(at), text);
     }
     ctx.push(diag);
 }
 
-/// Where a new member goes: on its own line after the graph's last member, or right after the
-/// body's `<`.
-fn member_insertion(graph: &ast::Graph, member: &str) -> Option<(TextRange, String)> {
-    let body = graph.body()?;
-    let last = body.syntax().children().last();
-    match last {
-        Some(node) => Some(edit::insert_member_after(&node, member)),
-        None => {
-            let open = body.l_angle()?;
-            Some((
-                TextRange::empty(open.text_range().end()),
-                format!("\n  {member}\n"),
-            ))
-        }
-    }
-}
-
-/// HG2202 and HG2203.
 fn check_startups(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
     let mut first: Option<(String, Option<TextRange>)> = None;
     for t in model.startups() {

@@ -4,9 +4,10 @@
 
 use std::collections::BTreeSet;
 
-use higraph_syntax::ast;
-
-use super::model::{End, GraphModel};
+use super::{
+    GraphHeader,
+    model::{End, GraphModel},
+};
 use crate::rules::Ctx;
 
 /// At most this many states per graph (HG2001).
@@ -17,11 +18,11 @@ const MAX_TRANSITIONS: usize = 4090;
 const MISSING_SHOWN: usize = 5;
 
 /// Runs the structure rules.
-pub(super) fn check(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
+pub(super) fn check(ctx: &mut Ctx<'_>, header: &GraphHeader, model: &GraphModel<'_>) {
     check_limits(ctx, model);
     check_state_numbers(ctx, model);
     check_endpoints(ctx, model);
-    check_numbering(ctx, graph, model);
+    check_numbering(ctx, header, model);
     check_repeated_attributes(ctx, model);
 }
 
@@ -128,8 +129,8 @@ fn check_endpoints(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
 }
 
 /// HG2105: the distinct state numbers are not 0..n−1.
-fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>) {
-    let Some(name) = graph.name().and_then(|n| n.token()) else {
+fn check_numbering(ctx: &mut Ctx<'_>, header: &GraphHeader, model: &GraphModel<'_>) {
+    let Some(name_range) = header.name_range else {
         return;
     };
     let numbers: BTreeSet<u64> = model
@@ -184,7 +185,7 @@ fn check_numbering(ctx: &mut Ctx<'_>, graph: &ast::Graph, model: &GraphModel<'_>
         }
     }
     let diag = ctx
-        .diag("HG2105", name.text_range(), message)
+        .diag("HG2105", name_range, message)
         .fix_edits(format!("Renumber the states 0 to {}", n - 1), edits);
     ctx.push(diag);
 }
