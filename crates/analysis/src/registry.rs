@@ -1075,7 +1075,11 @@ pub const RULES: &[Rule] = &[
 
 /// The rule of a code.
 pub fn rule_of(code: &str) -> Option<&'static Rule> {
-    RULES.iter().find(|r| r.code.as_str() == code)
+    // `RULES` is sorted by code (a test checks it).
+    RULES
+        .binary_search_by(|r| r.code.as_str().cmp(code))
+        .ok()
+        .map(|i| &RULES[i])
 }
 
 /// Is `code` a syntax code (HG0xxx), which cannot be reconfigured or suppressed?

@@ -89,3 +89,21 @@ fn docs_state_the_default_severity() {
         );
     }
 }
+
+/// `registry::rule_of` finds rules by binary search: the registry is sorted by code, and
+/// every code is found.
+#[test]
+fn the_registry_is_sorted_by_code() {
+    let codes: Vec<&str> = RULES.iter().map(|r| r.code.as_str()).collect();
+    let mut sorted = codes.clone();
+    sorted.sort_unstable();
+    sorted.dedup();
+    assert_eq!(codes, sorted);
+    for code in codes {
+        assert!(
+            higraph_analysis::registry::rule_of(code).is_some(),
+            "{code}"
+        );
+    }
+    assert!(higraph_analysis::registry::rule_of("HG9999").is_none());
+}

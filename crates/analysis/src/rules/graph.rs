@@ -78,7 +78,13 @@ impl GraphHeader {
         let name_token = graph.name().and_then(|n| n.token());
         let body = graph.body();
         let insertion = body.as_ref().and_then(|body| {
-            let members = body.syntax().children().count();
+            // Counted on the green tree: no syntax node per member.
+            let members = body
+                .syntax()
+                .green()
+                .children()
+                .filter(|c| c.as_node().is_some())
+                .count();
             match body.syntax().last_child() {
                 Some(last) => Some(Insertion::AfterMember {
                     ordinal: members - 1,
