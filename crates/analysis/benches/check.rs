@@ -4,8 +4,11 @@
 //!   groups, 10 charts, 5000 symbols): load into a fresh database and compute every file's
 //!   diagnostics. Reported as throughput over the workload's bytes.
 //! * `recheck_after_edit/max_graph` — with a warm database holding `max-graph`, change one
-//!   character inside a transition and recompute all diagnostics. This is the work a
-//!   keystroke causes; it must be proportional to the edited item, not to the workspace.
+//!   character inside a transition (`AnalysisHost::apply_edits`, as the language server does
+//!   for a keystroke) and recompute all diagnostics. The edited member is reparsed alone and
+//!   only its chunk of members is analysed again.
+//! * `recheck_after_edit/max_graph_whole_text` — the same edit, but handed over as a whole new
+//!   text (`set_file_contents`, as for a file changed on disk): full reparse, every member new.
 //!
 //! Run with `cargo bench -p higraph-analysis`.
 
@@ -13,7 +16,8 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
+use higraph_analysis::{AnalysisHost, FileContents, TextRange, TextSize, WorkspaceData};
+use higraph_syntax::Edit;
 
 fn load(files: &[(String, String)]) -> AnalysisHost {
     let mut host = AnalysisHost::new();
@@ -58,6 +62,18 @@ fn recheck_after_edit(c: &mut Criterion) {
     let mut flip = 0usize;
     let mut group = c.benchmark_group("recheck_after_edit");
     group.bench_function("max_graph", |b| {
+        b.iter(|| {
+            flip ^= 1;
+            let edit = Edit {
+                delete: TextRange::at(TextSize::from(at as u32), TextSize::from(1)),
+                insert: if flip == 1 { "O" } else { "U" }.to_owned(),
+            };
+            host.apply_edits(&path, &[edit]);
+            host.analysis().diagnostics().len()
+        })
+    });
+    group.sample_size(10);
+    group.bench_function("max_graph_whole_text", |b| {
         b.iter(|| {
             flip ^= 1;
             host.set_file_contents(&path, FileContents::Text(variants[flip].clone()));

@@ -6,8 +6,8 @@
 //! * `completion/max_graph_statement` — warm database, the cursor at the start of a
 //!   statement: labels and the opcodes of the file's mnemonic set.
 //! * `completion/max_graph_after_edit` — for comparison: one character typed in another
-//!   transition, then the same operand completion (includes reparsing the 570 kB file and
-//!   recomputing the edited graph's cached data).
+//!   transition (`apply_edits`), then the same operand completion (includes reparsing the
+//!   edited transition and recomputing what completion needs of the edited graph).
 //! * `views/max_graph_inlay_hints_range` — warm database, the inlay hints of 60 lines in the
 //!   middle of the graph (what an editor asks for the visible part).
 //! * `views/max_graph_document_symbols` — warm database, the whole outline (4 090
@@ -88,13 +88,15 @@ fn completion(c: &mut Criterion) {
     let Some(at) = at else {
         panic!("max-graph has no transition 0->n with a UN condition")
     };
-    let variants = [text.clone(), format!("{}O{}", &text[..at], &text[at + 1..])];
     let mut flip = 0usize;
-    group.sample_size(20);
     group.bench_function("max_graph_after_edit", |b| {
         b.iter(|| {
             flip ^= 1;
-            host.set_file_contents(PATH, FileContents::Text(variants[flip].clone()));
+            let edit = higraph_syntax::Edit {
+                delete: TextRange::at(TextSize::from(at as u32), TextSize::from(1)),
+                insert: if flip == 1 { "O" } else { "U" }.to_owned(),
+            };
+            host.apply_edits(PATH, &[edit]);
             host.analysis()
                 .completions(&operand)
                 .map(|items| items.len())
