@@ -397,8 +397,13 @@ impl Server {
     }
 
     fn send(&mut self, message: &Value) -> Result<(), String> {
+        // One write per frame, as editors do: a frame split over several writes can reach the
+        // server in pieces, and each piece costs it a wake-up.
         let body = message.to_string();
-        write!(self.stdin, "Content-Length: {}\r\n\r\n{body}", body.len())
+        let mut frame = format!("Content-Length: {}\r\n\r\n", body.len()).into_bytes();
+        frame.extend_from_slice(body.as_bytes());
+        self.stdin
+            .write_all(&frame)
             .and_then(|()| self.stdin.flush())
             .map_err(|e| format!("cannot write to the server: {e}"))
     }
