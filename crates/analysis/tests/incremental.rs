@@ -263,3 +263,35 @@ fn keystrokes_give_the_diagnostics_of_a_fresh_analysis() {
         }
     }
 }
+
+/// A member longer than a virtual slot (64 KiB) makes the structure rules use real offsets;
+/// their findings land on the right text either way.
+#[test]
+fn structure_findings_land_on_their_text_in_huge_graphs() {
+    for statements in [10, 8000] {
+        let mut text = String::from("graph G <\n  in < A : BOOL; >\n  state 0 < >\n");
+        text.push_str("  trans any->0 < U INIT_SD; >\n  trans 0->0 <\n");
+        for _ in 0..statements {
+            text.push_str("    U A;\n");
+        }
+        // Beyond the first 64 KiB of the member when it is huge.
+        text.push_str("    wait T#1S;\n");
+        text.push_str("  >\n  trans 0->7 < U A; >\n>\n");
+        let host = load(&[("g.higraph".to_owned(), text.clone())]);
+        let diagnostics = host.analysis().diagnostics();
+        let at = |code: &str| -> Vec<&str> {
+            diagnostics
+                .iter()
+                .flat_map(|(_, ds)| ds)
+                .filter(|d| d.code.as_str() == code)
+                .map(|d| &text[usize::from(d.range.start())..usize::from(d.range.end())])
+                .collect()
+        };
+        assert_eq!(at("HG2103"), vec!["7"], "with {statements} statements");
+        assert_eq!(
+            at("HG3007"),
+            vec!["wait T#1S"],
+            "with {statements} statements"
+        );
+    }
+}
