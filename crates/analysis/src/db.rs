@@ -259,6 +259,17 @@ pub struct GraphLayout<'db> {
     pub virtual_ok: bool,
 }
 
+impl GraphLayout<'_> {
+    /// The offset in the item of every member, in text order.
+    pub fn member_offsets(&self, db: &dyn salsa::Database) -> Vec<TextSize> {
+        let mut offsets = Vec::new();
+        for (chunk, &start) in self.chunks.iter().zip(&self.offsets) {
+            offsets.extend(chunk.members(db).iter().map(|(_, offset)| start + *offset));
+        }
+        offsets
+    }
+}
+
 /// Where chunks end is decided by the members themselves (content-defined chunking): after a
 /// member whose address hashes to 0 modulo 16, and after at most 64 members. A changed
 /// member is a new node at a new address, so an edit moves at most the two boundaries around

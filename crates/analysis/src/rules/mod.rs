@@ -168,10 +168,7 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     let structure = db::graph_structure(db, ctx.ws, item);
     if !structure.diags.is_empty() {
         // Back from the virtual layout: the real offset of every member.
-        let mut offsets = Vec::new();
-        for (chunk, &start) in layout.chunks.iter().zip(&layout.offsets) {
-            offsets.extend(chunk.members(db).iter().map(|(_, offset)| start + *offset));
-        }
+        let offsets = layout.member_offsets(db);
         let place = |at: TextSize| graph::VirtualLayout::place(at, &offsets);
         for diag in &structure.diags {
             ctx.out.diags.push(if layout.virtual_ok {
@@ -220,12 +217,7 @@ pub(crate) fn check_graph_structure(
     let layout = if facts.virtual_ok {
         graph::VirtualLayout::Virtual
     } else {
-        let layout = db::graph_layout(db, item);
-        let mut offsets = Vec::new();
-        for (chunk, &start) in layout.chunks.iter().zip(&layout.offsets) {
-            offsets.extend(chunk.members(db).iter().map(|(_, offset)| start + *offset));
-        }
-        graph::VirtualLayout::Real(offsets)
+        graph::VirtualLayout::Real(db::graph_layout(db, item).member_offsets(db))
     };
     let model = graph::GraphModel::new(
         header.name.clone(),
