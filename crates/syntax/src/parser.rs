@@ -62,6 +62,37 @@ fn text_size(offset: usize) -> TextSize {
 /// Marker for "end of input" in lookahead.
 const EOF: SyntaxKind = SyntaxKind::__LAST_TOKEN;
 
+/// What the lexing loop of [`Parser::new`] needs to know about a token beyond its kind,
+/// worked out once per distinct token (kind and text) rather than once per occurrence.
+#[derive(Debug, Clone, Copy)]
+struct TokenInfo {
+    /// The keyword an identifier is spelled like; `IDENT` if none, and for other tokens.
+    keyword: SyntaxKind,
+    /// The token's [`stl::word`] flags.
+    flags: u16,
+    /// White space with a line break.
+    line_break: bool,
+    /// Can the token carry a diagnostic of its own ([`lexer::token_errors`])? Strings,
+    /// character constants and identifiers or typed constants with non-ASCII characters.
+    check: bool,
+}
+
+impl TokenInfo {
+    fn new(kind: SyntaxKind, text: &str) -> TokenInfo {
+        TokenInfo {
+            keyword: if kind == IDENT {
+                SyntaxKind::from_keyword(text).unwrap_or(IDENT)
+            } else {
+                IDENT
+            },
+            flags: stl::word_flags(kind, text),
+            line_break: kind == WHITESPACE && text.bytes().any(|b| b == b'\n' || b == b'\r'),
+            check: matches!(kind, STRING | CHAR)
+                || (matches!(kind, IDENT | TYPED_CONST) && !text.is_ascii()),
+        }
+    }
+}
+
 /// Which enclosing construct may claim a member keyword (language.md §1.4): a member keyword
 /// at statement start closes every inner body up to the construct that accepts it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,10 +115,14 @@ struct Significant<'t> {
     offset: TextSize,
     /// Number of trivia tokens before this token: the trivia up to here precedes it.
     trivia_end: u32,
+    /// The token's number in the tree builder (as lexed, not as a keyword).
+    id: u32,
     kind: SyntaxKind,
     /// For an identifier spelled like a keyword (ASCII case-insensitively), that keyword;
     /// `IDENT` for every other token.
     keyword: SyntaxKind,
+    /// What the STL grammar asks about the token's text ([`stl::word_flags`]).
+    flags: u16,
     /// Is there a line break between this token and the previous significant one?
     newline_before: bool,
     /// Does this token follow the previous significant token with nothing at all in between?
@@ -97,8 +132,9 @@ struct Significant<'t> {
 pub(crate) struct Parser<'t> {
     /// The significant tokens, in order.
     significant: Vec<Significant<'t>>,
-    /// White space, comments and unlexable characters, in order.
-    trivia: Vec<Token<'t>>,
+    /// White space, comments and unlexable characters, in order, as token numbers of the
+    /// tree builder.
+    trivia: Vec<u32>,
     /// Position in `significant`.
     pos: usize,
     /// Trivia tokens before this index are already in the tree.
@@ -117,79 +153,86 @@ impl<'t> Parser<'t> {
         // capacity, which is never touched).
         let mut significant = Vec::with_capacity(text.len() / 4 + 16);
         let mut trivia = Vec::with_capacity(text.len() / 5 + 16);
+        let mut builder = TreeBuilder::new();
+        // Per distinct token (by number): the keyword it is spelled like and its word flags,
+        // worked out once per distinct text rather than once per occurrence.
+        let mut info: Vec<TokenInfo> = Vec::new();
         let mut errors = Vec::new();
         let mut saw_newline = false;
         let mut adjacent = false;
         // The lexer runs here directly rather than through `lexer::Tokens`: this loop is the
         // hottest of the parser. The same rules apply: a leading byte-order mark is white
-        // space, and a run of unlexable characters is one LEX_ERROR token.
+        // space, and a run of unlexable characters is one LEX_ERROR token. Every token is
+        // interned in the tree builder right away, so the grammar adds tokens by number.
         let bom = if text.starts_with('\u{FEFF}') {
             '\u{FEFF}'.len_utf8()
         } else {
             0
         };
         if bom > 0 {
-            trivia.push(Token {
-                kind: WHITESPACE,
-                text: &text[..bom],
-            });
+            trivia.push(builder.intern_token(WHITESPACE, &text[..bom]));
+            info.push(TokenInfo::new(WHITESPACE, &text[..bom]));
         }
-        // Start of the LEX_ERROR run that is the last trivia token, while the run can grow.
-        let mut error_run: Option<usize> = None;
+        // The LEX_ERROR run being lexed (start, end), while it can grow.
+        let mut error_run: Option<(usize, usize)> = None;
         let mut lexer = SyntaxKind::lexer(&text[bom..]);
         while let Some(result) = lexer.next() {
-            let start = bom + lexer.span().start;
-            let token_text = lexer.slice();
+            let span = lexer.span();
+            let start = bom + span.start;
             let Ok(kind) = result else {
-                let run_start = *error_run.get_or_insert(start);
-                let run = Token {
-                    kind: LEX_ERROR,
-                    text: &text[run_start..bom + lexer.span().end],
-                };
-                if run_start == start {
-                    trivia.push(run);
-                } else if let Some(last) = trivia.last_mut() {
-                    *last = run;
-                }
+                let run = error_run.get_or_insert((start, start));
+                run.1 = bom + span.end;
                 adjacent = false;
                 continue;
             };
-            if let Some(run_start) = error_run.take() {
-                if let Some(&run) = trivia.last() {
-                    lexer::token_errors(run, text_size(run_start), &mut errors);
+            if let Some((run_start, run_end)) = error_run.take() {
+                let run = &text[run_start..run_end];
+                let id = builder.intern_token(LEX_ERROR, run);
+                if id as usize == info.len() {
+                    info.push(TokenInfo::new(LEX_ERROR, run));
                 }
+                trivia.push(id);
+                let token = Token {
+                    kind: LEX_ERROR,
+                    text: run,
+                };
+                lexer::token_errors(token, text_size(run_start), &mut errors);
             }
-            let token = Token {
-                kind,
-                text: token_text,
-            };
-            // Only a few kinds can carry an error of their own; skip the call for the rest.
-            if matches!(kind, STRING | CHAR)
-                || (matches!(kind, IDENT | TYPED_CONST) && !token_text.is_ascii())
-            {
+            let token_text = lexer.slice();
+            let id = builder.intern_token(kind, token_text);
+            if id as usize == info.len() {
+                info.push(TokenInfo::new(kind, token_text));
+            }
+            let TokenInfo {
+                keyword,
+                flags,
+                line_break,
+                check,
+            } = info[id as usize];
+            // Only a few tokens can carry an error of their own; skip the call for the rest.
+            if check {
+                let token = Token {
+                    kind,
+                    text: token_text,
+                };
                 lexer::token_errors(token, text_size(start), &mut errors);
             }
             match kind {
                 WHITESPACE | COMMENT => {
                     // Comments end before the line break.
-                    if kind == WHITESPACE && token_text.bytes().any(|b| b == b'\n' || b == b'\r') {
-                        saw_newline = true;
-                    }
+                    saw_newline |= line_break;
                     adjacent = false;
-                    trivia.push(token);
+                    trivia.push(id);
                 }
                 _ => {
-                    let keyword = if kind == IDENT {
-                        SyntaxKind::from_keyword(token_text).unwrap_or(IDENT)
-                    } else {
-                        IDENT
-                    };
                     significant.push(Significant {
                         text: token_text,
                         offset: text_size(start),
                         trivia_end: trivia.len() as u32,
+                        id,
                         kind,
                         keyword,
+                        flags,
                         newline_before: saw_newline,
                         joined: adjacent,
                     });
@@ -198,10 +241,14 @@ impl<'t> Parser<'t> {
                 }
             }
         }
-        if let Some(run_start) = error_run {
-            if let Some(&run) = trivia.last() {
-                lexer::token_errors(run, text_size(run_start), &mut errors);
-            }
+        if let Some((run_start, run_end)) = error_run {
+            let run = &text[run_start..run_end];
+            trivia.push(builder.intern_token(LEX_ERROR, run));
+            let token = Token {
+                kind: LEX_ERROR,
+                text: run,
+            };
+            lexer::token_errors(token, text_size(run_start), &mut errors);
         }
         let offset = text_size(text.len());
         Parser {
@@ -211,7 +258,7 @@ impl<'t> Parser<'t> {
             trivia_emitted: 0,
             last_end: TextSize::from(0),
             text_len: offset,
-            builder: TreeBuilder::new(),
+            builder,
             errors,
         }
     }
@@ -286,6 +333,12 @@ impl<'t> Parser<'t> {
         self.nth_is_kw(0, kw)
     }
 
+    /// Does the `n`th token have one of the word flags `flags` ([`stl::word_flags`])?
+    #[inline]
+    pub(crate) fn nth_has(&self, n: usize, flags: u16) -> bool {
+        self.nth_token(n).is_some_and(|t| t.flags & flags != 0)
+    }
+
     /// Does the `n`th token follow the `n-1`th with nothing between them?
     #[inline]
     pub(crate) fn nth_joined(&self, n: usize) -> bool {
@@ -323,15 +376,16 @@ impl<'t> Parser<'t> {
     // ------------------------------------------------------------------ tree building
 
     /// Adds the pending trivia (and unlexable characters) before the current token.
+    #[inline]
     fn flush_trivia(&mut self) {
         let upto = self
             .significant
             .get(self.pos)
             .map_or(self.trivia.len(), |t| t.trivia_end as usize);
-        while self.trivia_emitted < upto {
-            let token = self.trivia[self.trivia_emitted];
-            self.builder.token(token.kind, token.text);
-            self.trivia_emitted += 1;
+        if self.trivia_emitted < upto {
+            self.builder
+                .push_tokens(&self.trivia[self.trivia_emitted..upto]);
+            self.trivia_emitted = upto;
         }
     }
 
@@ -370,12 +424,23 @@ impl<'t> Parser<'t> {
             return;
         };
         self.flush_trivia();
+        let id = if kind == token.kind {
+            token.id
+        } else {
+            self.builder.intern_token(kind, token.text)
+        };
+        self.builder.push_token(id);
+        self.advance(token);
+    }
+
+    /// Moves past `token`, the current token, once it is in the tree.
+    #[inline]
+    fn advance(&mut self, token: Significant<'t>) {
         if matches!(token.kind, TYPED_CONST | CHAR) {
             // Typed and character constants are checked wherever they stand (HG0006/HG0007).
             let range = TextRange::at(token.offset, TextSize::of(token.text));
             validation::check_constant_token(token.kind, token.text, range, &mut self.errors);
         }
-        self.builder.token(kind, token.text);
         self.last_end = token.offset + TextSize::of(token.text);
         self.pos += 1;
     }
@@ -388,6 +453,16 @@ impl<'t> Parser<'t> {
 
     /// Wraps `n` tokens in a node.
     pub(crate) fn bump_node(&mut self, kind: SyntaxKind, n: usize) {
+        // Most nodes of one token (`NAME_REF`, `OPCODE`, ...) were made before: add that node.
+        if n == 1 {
+            if let Some(&token) = self.significant.get(self.pos) {
+                self.flush_trivia();
+                if self.builder.push_wrapped(kind, token.id) {
+                    self.advance(token);
+                    return;
+                }
+            }
+        }
         self.start(kind);
         for _ in 0..n {
             self.bump();

@@ -4,7 +4,7 @@
 use std::fmt;
 
 use super::{Parser, Scope, lazy};
-use crate::SyntaxKind::*;
+use crate::{SyntaxKind, SyntaxKind::*};
 
 /// Address-area identifiers of both mnemonic sets (diagnostics.md Appendix A.2). The parser
 /// accepts both sets; analysis decides which is legal (HG4007).
@@ -42,8 +42,8 @@ fn is_area_with_number(word: &str) -> bool {
 
 fn is_db_name(word: &str) -> bool {
     word.len() > 2
-        && word[..2].eq_ignore_ascii_case("DB")
-        && word[2..].bytes().all(|b| b.is_ascii_digit())
+        && word.as_bytes()[..2].eq_ignore_ascii_case(b"DB")
+        && word.as_bytes()[2..].iter().all(|b| b.is_ascii_digit())
 }
 
 /// `DBX`, `DBB`, `DBW`, `DBD`, optionally followed by digits.
@@ -60,12 +60,67 @@ fn is_integer(text: &str) -> bool {
     !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit())
 }
 
+/// Word flags: what the STL grammar asks about a token's text, worked out once per distinct
+/// token when it is lexed ([`word_flags`]) and tested with [`Parser::nth_has`]. The
+/// identifier flags are set only on `IDENT` tokens, the number flags only on `NUMBER` tokens.
+pub(crate) mod word {
+    /// An address area ([`super::AREAS`]): `E`, `MW`, `DBX`, `FC`, ...
+    pub(crate) const AREA: u16 = 1 << 0;
+    /// An area that names blocks ([`super::BLOCK_AREAS`]).
+    pub(crate) const BLOCK_AREA: u16 = 1 << 1;
+    /// An operation that opens a bracket ([`super::BRACKET_OPS`]).
+    pub(crate) const BRACKET_OP: u16 = 1 << 2;
+    /// `CALL` or `CC`.
+    pub(crate) const CALL: u16 = 1 << 3;
+    /// `RND` (`RND+`, `RND-`).
+    pub(crate) const RND: u16 = 1 << 4;
+    /// `TRUE` or `FALSE`.
+    pub(crate) const BOOL: u16 = 1 << 5;
+    /// `C` (the `C-:` label).
+    pub(crate) const LETTER_C: u16 = 1 << 6;
+    /// `E`, `C` or `X` (the `E:`, `C:`, `X:` labels).
+    pub(crate) const LABEL_LETTER: u16 = 1 << 7;
+    /// `I`, `D` or `R` (the type of a comparison).
+    pub(crate) const CMP_TYPE: u16 = 1 << 8;
+    /// Area letters followed by digits: `E1`, `MW10`.
+    pub(crate) const AREA_WITH_NUMBER: u16 = 1 << 9;
+    /// `DB` followed by digits: `DB10`.
+    pub(crate) const DB_NAME: u16 = 1 << 10;
+    /// `DBX`, `DBB`, `DBW`, `DBD`, optionally followed by digits.
+    pub(crate) const DB_ACCESS: u16 = 1 << 11;
+    /// A number of digits only.
+    pub(crate) const INTEGER: u16 = 1 << 12;
+    /// The number `0`.
+    pub(crate) const ZERO: u16 = 1 << 13;
+}
+
+/// The [`word`] flags of a token.
+pub(crate) fn word_flags(kind: SyntaxKind, text: &str) -> u16 {
+    let flag = |condition: bool, flag: u16| if condition { flag } else { 0 };
+    match kind {
+        IDENT => {
+            let is_any = |words: &[&str]| words.iter().any(|w| w.eq_ignore_ascii_case(text));
+            flag(is_area(text), word::AREA)
+                | flag(is_any(BLOCK_AREAS), word::BLOCK_AREA)
+                | flag(is_any(BRACKET_OPS), word::BRACKET_OP)
+                | flag(is_any(&["CALL", "CC"]), word::CALL)
+                | flag(is_any(&["RND"]), word::RND)
+                | flag(is_any(&["TRUE", "FALSE"]), word::BOOL)
+                | flag(is_letter(text, b'C'), word::LETTER_C)
+                | flag(is_any(&["E", "C", "X"]), word::LABEL_LETTER)
+                | flag(is_any(&["I", "D", "R"]), word::CMP_TYPE)
+                | flag(is_area_with_number(text), word::AREA_WITH_NUMBER)
+                | flag(is_db_name(text), word::DB_NAME)
+                | flag(is_db_access(text), word::DB_ACCESS)
+        }
+        NUMBER => flag(is_integer(text), word::INTEGER) | flag(text == "0", word::ZERO),
+        _ => 0,
+    }
+}
+
 /// `I`, `D` or `R` as a whole identifier at `n` joined to the previous token.
 fn nth_is_cmp_type(p: &Parser<'_>, n: usize) -> bool {
-    p.nth_joined(n) && p.nth(n) == IDENT && {
-        let word = p.nth_text(n);
-        is_letter(word, b'I') || is_letter(word, b'D') || is_letter(word, b'R')
-    }
+    p.nth_joined(n) && p.nth_has(n, word::CMP_TYPE)
 }
 
 /// Number of tokens of an STL comparison at the current position (`==I <>I >I <I >=I <=I`
@@ -88,15 +143,8 @@ fn label_len(p: &Parser<'_>) -> usize {
     let colon_at = |n: usize| p.nth(n) == COLON && p.nth_joined(n);
     // The token after the first decides most cases; the text is looked at last.
     match (p.current(), p.nth(1)) {
-        (IDENT, MINUS) if p.nth_joined(1) && colon_at(2) && is_letter(p.nth_text(0), b'C') => 3,
-        (IDENT, COLON) if colon_at(1) => {
-            let word = p.nth_text(0);
-            if is_letter(word, b'E') || is_letter(word, b'C') || is_letter(word, b'X') {
-                2
-            } else {
-                0
-            }
-        }
+        (IDENT, MINUS) if p.nth_joined(1) && colon_at(2) && p.nth_has(0, word::LETTER_C) => 3,
+        (IDENT, COLON) if colon_at(1) && p.nth_has(0, word::LABEL_LETTER) => 2,
         (QUESTION | BANG, _) if colon_at(1) => 2,
         _ => 0,
     }
@@ -123,13 +171,10 @@ fn opcode_len(p: &Parser<'_>) -> usize {
     }
     match p.current() {
         IDENT => {
-            let word = p.nth_text(0);
-            let bracket = p.nth(1) == L_PAREN
-                && !p.nth_on_new_line(1)
-                && BRACKET_OPS.iter().any(|op| op.eq_ignore_ascii_case(word));
-            let rounding = matches!(p.nth(1), PLUS | MINUS)
-                && p.nth_joined(1)
-                && word.eq_ignore_ascii_case("RND");
+            let bracket =
+                p.nth(1) == L_PAREN && !p.nth_on_new_line(1) && p.nth_has(0, word::BRACKET_OP);
+            let rounding =
+                matches!(p.nth(1), PLUS | MINUS) && p.nth_joined(1) && p.nth_has(0, word::RND);
             if bracket || rounding { 2 } else { 1 }
         }
         R_PAREN | EQ => 1,
@@ -234,6 +279,7 @@ pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
     }
     // An opcode has at most three tokens (`==I`); they are shown without the space between.
     let op = [p.nth_text(0), p.nth_text(1), p.nth_text(2)];
+    let is_call = p.nth_has(0, word::CALL);
     let op = &op[..n];
     p.bump_node(OPCODE, n);
     let element = lazy(|f| write!(f, "'{}'", op.concat()));
@@ -241,7 +287,7 @@ pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
     let operand_follows = !p.nth_on_new_line(0) && !p.at(SEMI) && !at_label(p) && !at_jump_label(p);
     if operand_follows {
         let errors = p.error_count();
-        if n == 1 && (op[0].eq_ignore_ascii_case("CALL") || op[0].eq_ignore_ascii_case("CC")) {
+        if n == 1 && is_call {
             call_args(p);
         } else {
             // No operand is fine here; `expect_semi` reports a token that cannot follow.
@@ -314,11 +360,7 @@ fn call_args(p: &mut Parser<'_>) {
 /// Text of the block reference at the current position, for messages.
 pub(crate) fn block_ref_text(p: &Parser<'_>) -> String {
     let word = p.nth_text(0);
-    if p.at(IDENT)
-        && BLOCK_AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
-        && p.nth(1) == NUMBER
-        && !p.nth_on_new_line(1)
-    {
+    if p.nth_has(0, word::BLOCK_AREA) && p.nth(1) == NUMBER && !p.nth_on_new_line(1) {
         format!("{word} {}", p.nth_text(1))
     } else {
         word.to_owned()
@@ -330,11 +372,7 @@ pub(crate) fn block_ref(p: &mut Parser<'_>) -> bool {
     match p.current() {
         IDENT => {
             p.start(BLOCK_REF);
-            let word = p.nth_text(0);
-            if BLOCK_AREAS.iter().any(|a| a.eq_ignore_ascii_case(word))
-                && p.nth(1) == NUMBER
-                && !p.nth_on_new_line(1)
-            {
+            if p.nth_has(0, word::BLOCK_AREA) && p.nth(1) == NUMBER && !p.nth_on_new_line(1) {
                 p.bump_node(ADDRESS, 2);
             } else {
                 p.bump_node(NAME_REF, 1);
@@ -359,41 +397,35 @@ fn address_len(p: &Parser<'_>) -> usize {
     if p.current() != IDENT {
         return 0;
     }
-    let word = p.nth_text(0);
-    // The tokens' kinds are tested before the (costlier) texts.
     // DB10.DBX 5.1, DB10.DBW4, DB10.DBX5.1
     if p.nth(1) == DOT
         && p.nth_joined(1)
-        && p.nth(2) == IDENT
         && p.nth_joined(2)
-        && is_db_name(word)
+        && p.nth_has(0, word::DB_NAME)
+        && p.nth_has(2, word::DB_ACCESS)
     {
-        let access = p.nth_text(2);
-        if is_db_access(access) {
-            if access.len() == 3 {
-                return if p.nth(3) == NUMBER && !p.nth_on_new_line(3) {
-                    4
-                } else {
-                    3
-                };
-            }
-            if p.nth(3) == DOT && p.nth_joined(3) && p.nth(4) == NUMBER && p.nth_joined(4) {
-                return 5;
-            }
-            return 3;
+        if p.nth_text(2).len() == 3 {
+            return if p.nth(3) == NUMBER && !p.nth_on_new_line(3) {
+                4
+            } else {
+                3
+            };
         }
+        if p.nth(3) == DOT && p.nth_joined(3) && p.nth(4) == NUMBER && p.nth_joined(4) {
+            return 5;
+        }
+        return 3;
     }
     // E 1.0, MW 10, T 5, FC 10
-    if p.nth(1) == NUMBER && !p.nth_on_new_line(1) && is_area(word) {
+    if p.nth(1) == NUMBER && !p.nth_on_new_line(1) && p.nth_has(0, word::AREA) {
         return 2;
     }
     // E1.0, M10.7
     if p.nth(1) == DOT
         && p.nth_joined(1)
-        && p.nth(2) == NUMBER
         && p.nth_joined(2)
-        && is_integer(p.nth_text(2))
-        && is_area_with_number(word)
+        && p.nth_has(2, word::INTEGER)
+        && p.nth_has(0, word::AREA_WITH_NUMBER)
     {
         return 3;
     }
@@ -402,13 +434,11 @@ fn address_len(p: &Parser<'_>) -> usize {
 
 /// `DB10.DBX ...` at the current position — always a data-block address (language.md §3.5).
 pub(crate) fn at_db_address(p: &Parser<'_>) -> bool {
-    p.at(IDENT)
-        && is_db_name(p.nth_text(0))
+    p.nth_has(0, word::DB_NAME)
         && p.nth(1) == DOT
         && p.nth_joined(1)
-        && p.nth(2) == IDENT
         && p.nth_joined(2)
-        && is_db_access(p.nth_text(2))
+        && p.nth_has(2, word::DB_ACCESS)
 }
 
 /// An absolute address (ADDRESS node) if one starts here.
@@ -439,7 +469,7 @@ pub(crate) fn literal_len(p: &Parser<'_>) -> usize {
     match p.current() {
         NUMBER | TYPED_CONST | CHAR => 1,
         MINUS if p.nth(1) == NUMBER && p.nth_joined(1) => 2,
-        IDENT if p.at_word("TRUE") || p.at_word("FALSE") => 1,
+        IDENT if p.nth_has(0, word::BOOL) => 1,
         _ => 0,
     }
 }
@@ -487,7 +517,7 @@ pub(crate) fn operand(p: &mut Parser<'_>) -> bool {
     }
     match p.current() {
         // `MW [MD 10]`, `E [AR1, P#0.0]`: memory- and register-indirect operands.
-        IDENT if p.nth(1) == L_BRACK && !p.nth_on_new_line(1) && is_area(p.nth_text(0)) => {
+        IDENT if p.nth(1) == L_BRACK && !p.nth_on_new_line(1) && p.nth_has(0, word::AREA) => {
             indirect(p)
         }
         HASH if p.nth(1) == IDENT && p.nth_joined(1) => p.bump_node(VAR_REF, 2),
@@ -508,7 +538,7 @@ pub(crate) fn operand(p: &mut Parser<'_>) -> bool {
 
 /// `==0 <>0 >0 <0 >=0 <=0` written without spaces.
 fn status_len(p: &Parser<'_>) -> usize {
-    let zero_at = |n: usize| p.nth(n) == NUMBER && p.nth_text(n) == "0" && p.nth_joined(n);
+    let zero_at = |n: usize| p.nth_has(n, word::ZERO) && p.nth_joined(n);
     let joined = |n: usize, kind| p.nth(n) == kind && p.nth_joined(n);
     match p.current() {
         EQ if joined(1, EQ) && zero_at(2) => 3,
