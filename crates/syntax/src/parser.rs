@@ -109,10 +109,12 @@ pub(crate) enum Scope {
 }
 
 /// A significant token, with what the grammar asks about it precomputed.
+///
+/// Kept to 32 bytes: its offset in the text follows from where `text` points
+/// ([`Parser::offset`]).
 #[derive(Debug, Clone, Copy)]
 struct Significant<'t> {
     text: &'t str,
-    offset: TextSize,
     /// Number of trivia tokens before this token: the trivia up to here precedes it.
     trivia_end: u32,
     /// The token's number in the tree builder (as lexed, not as a keyword).
@@ -142,6 +144,8 @@ pub(crate) struct Parser<'t> {
     /// End of the last significant token added to the tree.
     last_end: TextSize,
     text_len: TextSize,
+    /// Address of the text: a token's offset is its text's address minus this.
+    base: usize,
     builder: TreeBuilder<'t>,
     errors: Vec<SyntaxError>,
 }
@@ -227,7 +231,6 @@ impl<'t> Parser<'t> {
                 _ => {
                     significant.push(Significant {
                         text: token_text,
-                        offset: text_size(start),
                         trivia_end: trivia.len() as u32,
                         id,
                         kind,
@@ -258,6 +261,7 @@ impl<'t> Parser<'t> {
             trivia_emitted: 0,
             last_end: TextSize::from(0),
             text_len: offset,
+            base: text.as_ptr() as usize,
             builder,
             errors,
         }
@@ -351,10 +355,16 @@ impl<'t> Parser<'t> {
         self.nth_token(n).is_none_or(|t| t.newline_before)
     }
 
+    /// Offset of `token` in the text.
+    #[inline]
+    fn offset(&self, token: &Significant<'t>) -> TextSize {
+        text_size(token.text.as_ptr() as usize - self.base)
+    }
+
     /// Range of the `n`th significant token, or the empty range at the end of the input.
     pub(crate) fn nth_range(&self, n: usize) -> TextRange {
         match self.nth_token(n) {
-            Some(t) => TextRange::at(t.offset, TextSize::of(t.text)),
+            Some(t) => TextRange::at(self.offset(t), TextSize::of(t.text)),
             None => TextRange::empty(self.text_len),
         }
     }
@@ -436,12 +446,13 @@ impl<'t> Parser<'t> {
     /// Moves past `token`, the current token, once it is in the tree.
     #[inline]
     fn advance(&mut self, token: Significant<'t>) {
-        if matches!(token.kind, TYPED_CONST | CHAR) {
+        if matches!(token.kind, TYPED_CONST | CHAR) && token.flags & stl::word::VALID_CONSTANT == 0
+        {
             // Typed and character constants are checked wherever they stand (HG0006/HG0007).
-            let range = TextRange::at(token.offset, TextSize::of(token.text));
+            let range = TextRange::at(self.offset(&token), TextSize::of(token.text));
             validation::check_constant_token(token.kind, token.text, range, &mut self.errors);
         }
-        self.last_end = token.offset + TextSize::of(token.text);
+        self.last_end = self.offset(&token) + TextSize::of(token.text);
         self.pos += 1;
     }
 
@@ -733,6 +744,7 @@ mod tests {
     /// The parser lexes on its own (see `Parser::new`); its tokens must be `tokenize`'s.
     #[test]
     fn parser_tokens_are_the_lexer_tokens() {
+        assert_eq!(std::mem::size_of::<super::Significant<'_>>(), 32);
         for text in [
             "",
             "\u{FEFF}",

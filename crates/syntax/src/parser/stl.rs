@@ -60,7 +60,19 @@ fn is_integer(text: &str) -> bool {
     !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit())
 }
 
-/// Word flags: what the STL grammar asks about a token's text, worked out once per distinct
+/// Does the check of the constant token `text` (`validation`) report nothing?
+fn constant_is_valid(kind: SyntaxKind, text: &str) -> bool {
+    let mut errors = Vec::new();
+    let range = rowan::TextRange::empty(0.into());
+    if kind == NUMBER {
+        crate::validation::check_number(text, range, &mut errors);
+    } else {
+        crate::validation::check_constant_token(kind, text, range, &mut errors);
+    }
+    errors.is_empty()
+}
+
+/// Word flags: what the grammar asks about a token's text, worked out once per distinct
 /// token when it is lexed ([`word_flags`]) and tested with [`Parser::nth_has`]. The
 /// identifier flags are set only on `IDENT` tokens, the number flags only on `NUMBER` tokens.
 pub(crate) mod word {
@@ -92,6 +104,9 @@ pub(crate) mod word {
     pub(crate) const INTEGER: u16 = 1 << 12;
     /// The number `0`.
     pub(crate) const ZERO: u16 = 1 << 13;
+    /// A number, typed constant or character constant whose check (HG0006/HG0007) reports
+    /// nothing: most constants repeat, so each distinct one is checked once.
+    pub(crate) const VALID_CONSTANT: u16 = 1 << 14;
 }
 
 /// The [`word`] flags of a token.
@@ -113,7 +128,12 @@ pub(crate) fn word_flags(kind: SyntaxKind, text: &str) -> u16 {
                 | flag(is_db_name(text), word::DB_NAME)
                 | flag(is_db_access(text), word::DB_ACCESS)
         }
-        NUMBER => flag(is_integer(text), word::INTEGER) | flag(text == "0", word::ZERO),
+        NUMBER => {
+            flag(is_integer(text), word::INTEGER)
+                | flag(text == "0", word::ZERO)
+                | flag(constant_is_valid(kind, text), word::VALID_CONSTANT)
+        }
+        TYPED_CONST | CHAR => flag(constant_is_valid(kind, text), word::VALID_CONSTANT),
         _ => 0,
     }
 }
@@ -481,8 +501,9 @@ pub(crate) fn literal(p: &mut Parser<'_>) -> bool {
     if n == 0 {
         return false;
     }
+    // A lone number is known to be valid or not (`word::VALID_CONSTANT`).
     let is_number = p.at(NUMBER) || p.at(MINUS);
-    if is_number {
+    if is_number && !(n == 1 && p.nth_has(0, word::VALID_CONSTANT)) {
         let start = p.nth_range(0).start();
         let end = p.nth_range(n - 1).end();
         let negative;
