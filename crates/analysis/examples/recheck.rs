@@ -1,6 +1,7 @@
 //! Profiling aid: re-checks max-graph after one-character edits, N times, optionally with a
-//! completion request after each. `cargo run --release -p higraph-analysis --example recheck
-//! -- [N] [complete]`
+//! completion request after each (`complete`) or with the whole-file views an editor asks for
+//! after an edit (`views`: semantic tokens, inlay hints, symbols, folding; timed once).
+//! `cargo run --release -p higraph-analysis --example recheck -- [N] [complete|views]`
 use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
 
 fn main() {
@@ -21,6 +22,7 @@ fn main() {
         .and_then(|t| text[t..].find(" UN ").map(|i| t + i + 1))
         .expect("a UN condition");
     let complete = std::env::args().nth(2).is_some_and(|a| a == "complete");
+    let views = std::env::args().nth(2).is_some_and(|a| a == "views");
     let position = higraph_analysis::ide::FilePosition {
         path: path.clone(),
         offset: ((at + 3) as u32).into(),
@@ -33,6 +35,27 @@ fn main() {
         edit_and_check(&mut host, &path, at, i);
         if complete {
             complete_after_edit(&host, &position);
+        }
+        if views {
+            let t = std::time::Instant::now();
+            let analysis = host.analysis();
+            let tokens = analysis.semantic_tokens(&path, None).map(|t| t.len());
+            let t1 = t.elapsed();
+            let hints = analysis.inlay_hints(&path, None).map(|h| h.len());
+            let t2 = t.elapsed();
+            let symbols = analysis.document_symbols(&path).map(|s| s.len());
+            let t3 = t.elapsed();
+            let folds = analysis.folding_ranges(&path).map(|f| f.len());
+            let t4 = t.elapsed();
+            if i == n - 1 {
+                println!(
+                    "after an edit: semantic tokens {t1:?} ({tokens:?}), inlay hints {:?} ({hints:?}), \
+                     document symbols {:?} ({symbols:?}), folding {:?} ({folds:?})",
+                    t2 - t1,
+                    t3 - t2,
+                    t4 - t3
+                );
+            }
         }
     }
     println!("{:?} per edit", start.elapsed() / n as u32);
