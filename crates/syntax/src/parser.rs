@@ -404,11 +404,13 @@ impl<'t> Parser<'t> {
         self.builder.start_node(SOURCE_FILE);
     }
 
+    #[inline]
     pub(crate) fn start(&mut self, kind: SyntaxKind) {
         self.flush_trivia();
         self.builder.start_node(kind);
     }
 
+    #[inline]
     pub(crate) fn finish_node(&mut self) {
         self.builder.finish_node();
     }
@@ -423,12 +425,14 @@ impl<'t> Parser<'t> {
     }
 
     /// Adds the current token to the tree.
+    #[inline]
     pub(crate) fn bump(&mut self) {
         let kind = self.current();
         self.bump_as(kind);
     }
 
     /// Adds the current token to the tree with another kind (keywords).
+    #[inline]
     pub(crate) fn bump_as(&mut self, kind: SyntaxKind) {
         let Some(&token) = self.significant.get(self.pos) else {
             return;
