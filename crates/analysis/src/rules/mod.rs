@@ -192,6 +192,8 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
         let prios: Vec<Option<u64>> = label_prios.by_ref().take(transitions).collect();
         found.merge(db::chunk_stl(db, ctx.ws, item, chunk, prios), start);
     }
+    // Each chunk was merged at its start, so the places are item-relative already; placing
+    // at offset 0 only ends their being marked member-relative.
     ctx.out
         .diags
         .extend(found.diags.iter().map(|d| d.place_member(0.into())));
