@@ -41,13 +41,7 @@ use state::{IndexProgress, Snapshot, Task, ToClient, WorldHandle};
 /// Runs the language server on stdin/stdout until `exit` (or the end of the input). The exit
 /// status is 0 after `shutdown` then `exit`, else 1 (LSP 3.17, `exit`).
 pub fn run() -> ExitCode {
-    // One worker thread: the async side only routes messages (handlers run on blocking
-    // threads, the analysis on the world's and the diagnostics thread), and on an idle
-    // machine every hop between workers on different cores is a wake-up that costs more
-    // than the routing itself (`crates/lsp/examples/latency.rs`: edit-to-diagnostics median
-    // 3.8 ms with one worker per core, 1.6–2.0 ms with one worker).
     let runtime = match tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(1)
         .enable_all()
         .thread_name("higraph-lsp")
         .build()
