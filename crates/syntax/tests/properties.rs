@@ -3,8 +3,11 @@
 //! random token soups and random mutations (tokens and bytes deleted, duplicated, swapped) of
 //! every fixture and example file.
 
+mod common;
+
 use std::{fs, path::Path};
 
+use common::{collect, corpus};
 use higraph_syntax::{lexer::tokenize, parse};
 use proptest::prelude::*;
 
@@ -40,34 +43,6 @@ fn check_invariants(text: &str) {
         offset = usize::from(token.text_range().end());
     }
     assert_eq!(offset, len);
-}
-
-/// Every `.higraph` file of the parser test data and of the examples.
-fn corpus() -> Vec<String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut files = Vec::new();
-    for dir in [root.join("test_data"), root.join("../../examples")] {
-        collect(&dir, &mut files);
-    }
-    files.sort();
-    files
-        .iter()
-        .filter_map(|p| fs::read_to_string(p).ok())
-        .collect()
-}
-
-fn collect(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let path = entry.path();
-        if path.is_dir() {
-            collect(&path, out);
-        } else if path.extension().is_some_and(|e| e == "higraph") {
-            out.push(path);
-        }
-    }
 }
 
 const VOCABULARY: &[&str] = &[

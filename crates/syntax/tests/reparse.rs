@@ -2,38 +2,11 @@
 //! diagnostics, for edits at every position inside the graph members of every fixture and
 //! example file, and for random edits anywhere.
 
-use std::{fs, path::Path};
+mod common;
 
+use common::corpus;
 use higraph_syntax::{Edit, Parse, SyntaxKind, TextRange, TextSize, parse};
 use proptest::prelude::*;
-
-/// Every `.higraph` file of the syntax test data and of the examples.
-fn corpus() -> Vec<String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut paths = Vec::new();
-    for dir in [root.join("test_data"), root.join("../../examples")] {
-        collect(&dir, &mut paths);
-    }
-    paths.sort();
-    paths
-        .iter()
-        .filter_map(|p| fs::read_to_string(p).ok())
-        .collect()
-}
-
-fn collect(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let path = entry.path();
-        if path.is_dir() {
-            collect(&path, out);
-        } else if path.extension().is_some_and(|e| e == "higraph") {
-            out.push(path);
-        }
-    }
-}
 
 /// Applies `edit` both ways and compares; returns whether the incremental path was taken.
 fn check(old: &Parse, text: &str, edit: &Edit) -> bool {
