@@ -203,7 +203,7 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
         *used |= *here;
     }
     scope.used_predefined.extend(found.used_predefined);
-    stl::report_unused_in_graph(ctx, &scope);
+    stl::report_unused(ctx, &scope);
 }
 
 /// The structure rules of a graph on its member facts ([`db::graph_structure`]).

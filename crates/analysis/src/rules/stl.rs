@@ -103,11 +103,6 @@ pub(crate) fn check_member(
     }
 }
 
-/// HG1210 for a graph, once the uses of every member are merged into `scope`.
-pub(crate) fn report_unused_in_graph(ctx: &mut Ctx<'_>, scope: &GraphScope) {
-    report_unused(ctx, scope);
-}
-
 pub(crate) use transitions::label_priorities as transition_label_priorities;
 
 /// Which kind of instruction body is being checked.
@@ -308,8 +303,9 @@ fn check_time_item(
     }
 }
 
-/// HG1210: declared variables and activated predefined variables that no operand uses.
-fn report_unused(ctx: &mut Ctx<'_>, scope: &GraphScope) {
+/// HG1210: declared variables and activated predefined variables that no operand uses (`scope`
+/// holds the uses of every member of the graph, merged).
+pub(crate) fn report_unused(ctx: &mut Ctx<'_>, scope: &GraphScope) {
     let owner = scope.owner();
     for (var, used) in scope.vars.iter().zip(&scope.used_vars) {
         if !*used {
