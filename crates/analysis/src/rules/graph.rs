@@ -28,9 +28,9 @@ use higraph_syntax::{TextRange, TextSize, ast, ast::AstNode};
 
 use super::edit;
 // Re-exported for the formatter; `rules/mod.rs` has to make `graph` visible to it.
-pub(crate) use self::model::GraphModel;
 #[allow(unused_imports)]
 pub use self::model::effective_priorities;
+pub(crate) use self::model::{GraphModel, number_key};
 use super::Ctx;
 
 /// The declaration rules of a graph (its variable sections and `activate`), on its tree.

@@ -231,7 +231,11 @@ pub(crate) fn check_graph_structure(
     graph::check_structure(&mut ctx, header, &model);
     db::GraphStructure {
         diags: ctx.out.diags,
-        label_prios: stl::transition_label_priorities(facts.members()),
+        label_prios: model
+            .transitions
+            .iter()
+            .map(|t| t.label_priority())
+            .collect(),
     }
 }
 

@@ -68,8 +68,8 @@ impl MemberStl {
 }
 
 /// Checks the STL of one member of a graph, rooted at the member (`ctx.in_member`).
-/// `label_prio` is the transition's priority when its label needs one (§2.3, see
-/// [`transition_label_priorities`]).
+/// `label_prio` is the transition's priority when its label needs one (§2.3, from the graph
+/// model: `TransEntry::label_priority`).
 pub(crate) fn check_member(
     ctx: &mut Ctx<'_>,
     scope: &GraphScope,
@@ -102,8 +102,6 @@ pub(crate) fn check_member(
         used_symbols: std::mem::take(&mut ctx.out.used_symbols),
     }
 }
-
-pub(crate) use transitions::label_priorities as transition_label_priorities;
 
 /// Which kind of instruction body is being checked.
 enum BodyKind {

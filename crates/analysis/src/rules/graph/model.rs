@@ -196,17 +196,25 @@ impl<'a> TransEntry<'a> {
         self.facts.empty_condition
     }
 
-    /// `{src}->{dst}`, with ` (prio {p})` where two transitions would share a label.
+    /// `{src}->{dst}`, with ` (prio {p})` where two transitions would share a label (§2.3).
     pub fn label(&self) -> String {
         let plain = format!(
             "{}->{}",
-            self.source.as_ref().map_or("?", |e| e.text),
-            self.target.as_ref().map_or("?", |e| e.text)
+            label_key(self.source.as_ref()),
+            label_key(self.target.as_ref())
         );
-        match self.priority.or(self.explicit) {
-            Some(p) if self.shared_label => format!("{plain} (prio {p})"),
-            _ => plain,
+        match self.label_priority() {
+            Some(p) => format!("{plain} (prio {p})"),
+            None => plain,
         }
+    }
+
+    /// The priority the transition's label shows: its effective priority (explicit outside
+    /// every range) if another transition has the same `{src}->{dst}`, else `None`.
+    pub fn label_priority(&self) -> Option<u64> {
+        self.priority
+            .or(self.explicit)
+            .filter(|_| self.shared_label)
     }
 
     /// A normal transition: a state to a state.
@@ -484,12 +492,8 @@ impl<'a> GraphModel<'a> {
 
     /// Marks the transitions whose `{src}->{dst}` another transition shares.
     fn mark_shared_labels(&mut self) {
-        let plain = |t: &TransEntry<'a>| {
-            (
-                t.source.as_ref().map_or("?", |e| e.text),
-                t.target.as_ref().map_or("?", |e| e.text),
-            )
-        };
+        let plain =
+            |t: &TransEntry<'a>| (label_key(t.source.as_ref()), label_key(t.target.as_ref()));
         let mut counts: HashMap<(&str, &str), usize> =
             HashMap::with_capacity_and_hasher(self.transitions.len(), Default::default());
         for t in &self.transitions {
@@ -517,8 +521,19 @@ pub fn effective_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
     model.transitions.iter().map(|t| t.priority).collect()
 }
 
+/// An endpoint as transition labels show it (§2.3): a state number without leading zeros,
+/// `any`, `return`, or `?` if it did not parse.
+fn label_key<'a>(end: Option<&EndpointEntry<'a>>) -> &'a str {
+    match end.map(|e| e.end) {
+        Some(End::State(key)) => key,
+        Some(End::Any) => "any",
+        Some(End::Return) => "return",
+        None => "?",
+    }
+}
+
 /// A number without leading zeros.
-fn number_key(text: &str) -> &str {
+pub(crate) fn number_key(text: &str) -> &str {
     let trimmed = text.trim_start_matches('0');
     if trimmed.is_empty() { "0" } else { trimmed }
 }
