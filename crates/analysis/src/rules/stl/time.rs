@@ -47,14 +47,6 @@ impl TimeKind {
             }
         }
     }
-
-    /// Does the value stand in a chart?
-    fn in_chart(self) -> bool {
-        matches!(
-            self,
-            TimeKind::MinRunTime | TimeKind::MaxRunTime | TimeKind::ActionTime
-        )
-    }
 }
 
 /// Checks one time value: HG3004, HG3006 and HG3008. Returns the value in milliseconds when it
@@ -95,13 +87,7 @@ pub(crate) fn check_time_value(
         (LiteralClass::IecTime, Some(0)) => zero_time(ctx, range, &text, kind, item),
         (LiteralClass::IecTime, _) => {}
         (LiteralClass::S5Time, Some(ms)) => {
-            // Charts have always rewritten a zero S5 time as `T#0MS` (graphs as `T#0S`).
-            let rewrite = if ms == 0 && kind.in_chart() {
-                "T#0MS".to_owned()
-            } else {
-                iec_time_text(ms)
-            };
-            not_a_time(ctx, range, &text, "S5TIME", Some(rewrite));
+            not_a_time(ctx, range, &text, "S5TIME", Some(iec_time_text(ms)));
         }
         _ => not_a_time(ctx, range, &text, literal::literal_type(&constant), None),
     }
