@@ -565,6 +565,57 @@ fn config_must_be_readable() {
 }
 
 #[test]
+fn configuration_problems_are_reported_whatever_the_paths() {
+    // `diagnostics.md` §4.3: an invalid `higraph.toml` counts under status 1. It governs the
+    // whole run, so a PATH that selects one file does not hide it.
+    let tree = TempTree::new();
+    tree.file("higraph.toml", "[workspace]\nfoo = 1\n")
+        .file("sub/a.higraph", "// fine\n");
+    for path in [".", "sub", "sub/a.higraph"] {
+        let run = tree.run(".", &["check", "--format", "json", path]);
+        assert_eq!(run.status, 1, "check {path}: {}", run.stdout);
+        assert_eq!(
+            files_and_codes(&json(&run)),
+            [("higraph.toml".into(), "HG6101".into())],
+            "check {path}"
+        );
+    }
+}
+
+#[test]
+fn a_configuration_that_is_not_utf8_is_hg6101_not_a_usage_error() {
+    let tree = TempTree::new();
+    tree.file("higraph.toml", b"\xff\xfe[workspace]\n")
+        .file("a.higraph", "// fine\n");
+    let run = tree.run(".", &["check", "--format", "json"]);
+    assert_eq!(run.status, 1, "{}", run.stderr);
+    let report = json(&run);
+    assert_eq!(
+        files_and_codes(&report),
+        [("higraph.toml".into(), "HG6101".into())]
+    );
+    assert_eq!(
+        report["diagnostics"][0]["message"],
+        "higraph.toml: file is not valid UTF-8 (invalid byte at offset 0)"
+    );
+}
+
+#[test]
+fn an_invalid_glob_is_hg6101_and_the_default_applies() {
+    let tree = TempTree::new();
+    tree.file("higraph.toml", "[workspace]\ninclude = [\"[abc\"]\n")
+        .file("a.higraph", "$");
+    let report = json(&tree.run(".", &["check", "--format", "json"]));
+    assert_eq!(
+        files_and_codes(&report),
+        [
+            ("a.higraph".into(), "HG0009".into()),
+            ("higraph.toml".into(), "HG6101".into())
+        ]
+    );
+}
+
+#[test]
 fn bad_arguments_are_usage_errors() {
     let tree = TempTree::new();
     for args in [

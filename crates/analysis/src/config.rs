@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use higraph_syntax::{TextRange, TextSize};
 use toml::de::{DeTable, DeValue};
 
-use crate::{Severity, lang::Mnemonic, registry};
+use crate::{FileContents, Severity, lang::Mnemonic, registry};
 
 /// A configured severity: a level, or `off`.
 pub type Level = Option<Severity>;
@@ -45,6 +45,33 @@ fn range(span: std::ops::Range<usize>) -> TextRange {
 }
 
 impl Config {
+    /// The configuration of `higraph.toml`'s contents: parsed if they are text; the defaults
+    /// with the problem otherwise.
+    pub fn of_contents(contents: &FileContents) -> Config {
+        let problem = match contents {
+            FileContents::Text(text) => return Config::parse(text),
+            FileContents::NotUtf8 {
+                invalid_offset,
+                invalid_len,
+                ..
+            } => {
+                // In the text the analysis sees, each invalid byte is one U+FFFD.
+                let end = invalid_offset + invalid_len * char::REPLACEMENT_CHARACTER.len_utf8();
+                (
+                    range(*invalid_offset..end),
+                    format!("file is not valid UTF-8 (invalid byte at offset {invalid_offset})"),
+                )
+            }
+            FileContents::Unreadable { reason } => {
+                (range(0..0), format!("cannot read file: {reason}"))
+            }
+        };
+        Config {
+            problems: vec![problem],
+            ..Config::default()
+        }
+    }
+
     /// Parses `higraph.toml`.
     pub fn parse(text: &str) -> Config {
         let mut config = Config::default();
@@ -100,8 +127,16 @@ impl Config {
             match name {
                 "include" | "exclude" | "symbols" => match string_array(value) {
                     Some(list) => match name {
-                        "include" => self.include = list.into_iter().map(|(s, _)| s).collect(),
-                        "exclude" => self.exclude = list.into_iter().map(|(s, _)| s).collect(),
+                        "include" => {
+                            if let Some(globs) = self.globs(name, list) {
+                                self.include = globs;
+                            }
+                        }
+                        "exclude" => {
+                            if let Some(globs) = self.globs(name, list) {
+                                self.exclude = globs;
+                            }
+                        }
                         _ => self.symbols = list,
                     },
                     None => self.problems.push((
@@ -124,6 +159,24 @@ impl Config {
                 )),
             }
         }
+    }
+
+    /// The patterns of `include` or `exclude`, if every one is a valid glob; otherwise each
+    /// invalid one is a problem and the key keeps its default.
+    fn globs(&mut self, key: &str, list: Vec<(String, TextRange)>) -> Option<Vec<String>> {
+        let mut valid = true;
+        for (pattern, at) in &list {
+            if let Err(error) = globset::Glob::new(pattern) {
+                valid = false;
+                // The kind alone: `globset`'s whole message repeats the pattern.
+                let reason = error.kind().to_string();
+                self.problems.push((
+                    *at,
+                    format!("invalid glob pattern '{pattern}' in 'workspace.{key}': {reason}"),
+                ));
+            }
+        }
+        valid.then(|| list.into_iter().map(|(pattern, _)| pattern).collect())
     }
 
     fn diagnostics(&mut self, value: &toml::Spanned<DeValue<'_>>) {
@@ -219,5 +272,39 @@ mod tests {
         let config = Config::parse("[workspace\nmnemonic = ");
         assert_eq!(config.problems.len(), 1);
         assert_eq!(config.mnemonic, Mnemonic::Simatic);
+    }
+
+    #[test]
+    fn an_invalid_glob_is_a_problem_and_its_key_keeps_the_default() {
+        let text = "[workspace]\ninclude = [\"src/**\", \"[abc\"]\nexclude = [\"old/**\"]\n";
+        let config = Config::parse(text);
+        assert_eq!(config.include, vec!["**/*.higraph".to_owned()]);
+        assert_eq!(config.exclude, vec!["old/**".to_owned()]);
+        let [(at, problem)] = config.problems.as_slice() else {
+            panic!("one problem expected: {:?}", config.problems);
+        };
+        assert_eq!(&text[std::ops::Range::<usize>::from(*at)], "\"[abc\"");
+        assert!(
+            problem.starts_with("invalid glob pattern '[abc' in 'workspace.include': "),
+            "{problem}"
+        );
+    }
+
+    #[test]
+    fn a_configuration_that_is_not_utf8_is_a_problem_with_the_defaults() {
+        let contents = FileContents::from_bytes(b"[workspace]\nmnemonic = \"\xff\"\n".to_vec());
+        let config = Config::of_contents(&contents);
+        assert_eq!(config.mnemonic, Mnemonic::Simatic);
+        let [(at, problem)] = config.problems.as_slice() else {
+            panic!("one problem expected: {:?}", config.problems);
+        };
+        assert_eq!(
+            problem,
+            "file is not valid UTF-8 (invalid byte at offset 24)"
+        );
+        assert_eq!(
+            &contents.text()[std::ops::Range::<usize>::from(*at)],
+            "\u{FFFD}"
+        );
     }
 }

@@ -18,8 +18,8 @@ use crate::{
 pub struct WorkspaceData {
     /// The `.higraph` files (any order; the host sorts them into workspace order).
     pub files: Vec<(String, FileContents)>,
-    /// `higraph.toml`: its path and text.
-    pub config: Option<(String, String)>,
+    /// `higraph.toml`: its path and contents (HG6101 if they are not UTF-8).
+    pub config: Option<(String, FileContents)>,
     /// For each `workspace.symbols` entry of the configuration, the file's bytes or why it
     /// could not be read.
     pub imports: HashMap<String, Result<Vec<u8>, String>>,
@@ -46,9 +46,9 @@ impl AnalysisHost {
         }
     }
 
-    /// The configuration a workspace's `higraph.toml` text gives.
-    pub fn parse_config(text: &str) -> Config {
-        Config::parse(text)
+    /// The configuration a workspace's `higraph.toml` gives.
+    pub fn parse_config(contents: &FileContents) -> Config {
+        Config::of_contents(contents)
     }
 
     /// Replaces the whole workspace.
@@ -56,7 +56,7 @@ impl AnalysisHost {
         let config = data
             .config
             .as_ref()
-            .map(|(_, text)| Config::parse(text))
+            .map(|(_, contents)| Config::of_contents(contents))
             .unwrap_or_default();
         let mut paths: Vec<(String, FileContents)> = data.files;
         paths.sort_by(|a, b| a.0.cmp(&b.0));
@@ -70,7 +70,11 @@ impl AnalysisHost {
         }
         let config_file = data
             .config
-            .map(|(path, text)| File::new(db, path, Arc::new(FileContents::Text(text)), None));
+            // As text: problems with the bytes are the configuration's own (HG6101).
+            .map(|(path, contents)| {
+                let text = FileContents::Text(contents.text().to_owned());
+                File::new(db, path, Arc::new(text), None)
+            });
         let imports = config
             .symbols
             .iter()

@@ -374,7 +374,7 @@ fn workspace_diagnostics(files: &[FixtureFile]) -> Vec<String> {
         if path.ends_with(" !unreadable") {
             continue;
         } else if path == "higraph.toml" {
-            data.config = Some((path.clone(), String::from_utf8_lossy(body).into_owned()));
+            data.config = Some((path.clone(), FileContents::from_bytes(body.to_vec())));
         } else if path.ends_with(".higraph") {
             data.files
                 .push((path.clone(), FileContents::from_bytes(body.clone())));

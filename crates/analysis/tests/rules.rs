@@ -37,7 +37,7 @@ pub fn check_fixture(bytes: &[u8]) -> Vec<(String, String)> {
                 FileContents::unreadable("Permission denied"),
             ));
         } else if path == "higraph.toml" {
-            data.config = Some((path, String::from_utf8_lossy(&body).into_owned()));
+            data.config = Some((path, FileContents::from_bytes(body)));
         } else if path.ends_with(".higraph") {
             data.files.push((path, FileContents::from_bytes(body)));
         } else {

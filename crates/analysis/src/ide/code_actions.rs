@@ -347,7 +347,7 @@ graph Ventil <
                     FileContents::unreadable("Permission denied"),
                 ));
             } else if path == "higraph.toml" {
-                data.config = Some((path.clone(), String::from_utf8_lossy(body).into_owned()));
+                data.config = Some((path.clone(), crate::FileContents::from_bytes(body.clone())));
             } else if path.ends_with(".higraph") {
                 data.files
                     .push((path.clone(), FileContents::from_bytes(body.clone())));

@@ -57,7 +57,7 @@ pub(crate) fn load(fixture: &str) -> Fixture {
     let mut data = WorkspaceData::default();
     for (path, text) in &files {
         if path == "higraph.toml" {
-            data.config = Some((path.clone(), text.clone()));
+            data.config = Some((path.clone(), crate::FileContents::Text(text.clone())));
         } else {
             data.files
                 .push((path.clone(), FileContents::Text(text.clone())));

@@ -866,7 +866,7 @@ Instance Bohrmaschine.Spanner (group.higraph: Spanner)
             )],
             config: Some((
                 "higraph.toml".to_owned(),
-                "[workspace]\nsymbols = [\"plc.sdf\"]\n".to_owned(),
+                crate::FileContents::Text("[workspace]\nsymbols = [\"plc.sdf\"]\n".to_owned()),
             )),
             imports: [("plc.sdf".to_owned(), Ok(sdf))].into_iter().collect(),
         };

@@ -8,9 +8,11 @@
 
 use std::io::{self, IsTerminal, Write as _};
 use std::process::ExitCode;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 use higraph_analysis::{AnalysisHost, FileId};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::output::{self, Report, Reported, SourceFile, Sources};
 use super::{CheckArgs, CliError, ColorChoice, Deny, EXIT_FAILURE, Format, write_stdout};
@@ -79,37 +81,56 @@ pub(crate) fn run(args: &CheckArgs) -> Result<ExitCode, CliError> {
 }
 
 /// A progress bar on stderr for runs that take longer than about half a second (only on a
-/// terminal).
+/// terminal). A shorter run draws nothing at all.
 struct Progress {
     bar: Option<ProgressBar>,
+    /// Set when the run is done; the thread that would show the bar checks it under the lock,
+    /// so the bar is never drawn after [`Progress::finish`] cleared it.
+    done: Arc<Mutex<bool>>,
 }
 
 impl Progress {
     fn start(files: usize) -> Progress {
+        let done = Arc::new(Mutex::new(false));
         if !io::stderr().is_terminal() {
-            return Progress { bar: None };
+            return Progress { bar: None, done };
         }
-        let bar = ProgressBar::new_spinner();
-        bar.set_style(
-            ProgressStyle::with_template("{spinner} checking {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-        );
-        bar.set_message(format!("{files} files"));
-        // Shown only after half a second: short runs print nothing.
-        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+        // Hidden from the start: setting the style or the message of a visible bar draws it.
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden())
+            .with_style(
+                ProgressStyle::with_template("{spinner} checking {msg}")
+                    .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+            )
+            .with_message(match files {
+                1 => "1 file".to_owned(),
+                n => format!("{n} files"),
+            });
         let shown = bar.clone();
+        let shown_done = Arc::clone(&done);
         std::thread::spawn(move || {
-            std::thread::sleep(std::time::Duration::from_millis(500));
-            if !shown.is_finished() {
-                shown.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-                shown.enable_steady_tick(std::time::Duration::from_millis(100));
+            std::thread::sleep(Duration::from_millis(500));
+            let done = shown_done
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner());
+            if !*done {
+                shown.set_draw_target(ProgressDrawTarget::stderr());
+                shown.enable_steady_tick(Duration::from_millis(100));
             }
         });
-        Progress { bar: Some(bar) }
+        Progress {
+            bar: Some(bar),
+            done,
+        }
     }
 
     fn finish(self) {
+        let mut done = self
+            .done
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        *done = true;
         if let Some(bar) = self.bar {
+            // Erases the bar if it was shown; draws nothing if it was still hidden.
             bar.finish_and_clear();
         }
     }

@@ -76,8 +76,8 @@ pub(crate) struct CheckArgs {
     /// Make warnings fail the check too (exit status 1).
     #[arg(long, value_enum, value_name = "LINT")]
     pub deny: Vec<Deny>,
-    /// Configuration file to use instead of the workspace's `higraph.toml`. It must be
-    /// readable; its settings are not applied yet.
+    /// Configuration file to use instead of the workspace's `higraph.toml` (all its settings
+    /// apply; it must be readable).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// When to colour the human output.

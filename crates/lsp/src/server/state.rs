@@ -408,7 +408,7 @@ impl World {
         let config = data
             .config
             .as_ref()
-            .map(|(_, text)| AnalysisHost::parse_config(text));
+            .map(|(_, contents)| AnalysisHost::parse_config(contents));
         self.filter = match &config {
             Some(config) => FileFilter::new(&config.include, &config.exclude),
             None => FileFilter::new(&["**/*.higraph".to_owned()], &[]),

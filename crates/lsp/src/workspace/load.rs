@@ -32,26 +32,24 @@ pub(crate) fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loade
     };
     let config = match &config_path {
         Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|error| {
+            let bytes = std::fs::read(path).map_err(|error| {
                 WorkspaceError::new(format!(
                     "cannot read configuration file '{}': {}",
                     path.display(),
                     io_reason(&error)
                 ))
             })?;
+            // The configuration governs the whole run: its problems are reported whatever the
+            // PATHs (`diagnostics.md` §4.3: an invalid `higraph.toml` counts under status 1).
             let name = display_name(&workspace.root, path);
-            let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
-            selected.insert(
-                name.clone(),
-                workspace.selects(&absolute) || config.is_some(),
-            );
-            Some((name, text))
+            selected.insert(name.clone(), true);
+            Some((name, FileContents::from_bytes(bytes)))
         }
         None => None,
     };
     let parsed = config
         .as_ref()
-        .map(|(_, text)| AnalysisHost::parse_config(text))
+        .map(|(_, contents)| AnalysisHost::parse_config(contents))
         .unwrap_or_default();
     let filter = FileFilter::new(&parsed.include, &parsed.exclude);
     let mut files = Vec::new();
@@ -103,8 +101,8 @@ impl FileFilter {
     /// The filter of the workspace's `higraph.toml` (the defaults when there is none or it
     /// cannot be read; `check` reports such problems).
     pub(crate) fn for_workspace(root: &Path) -> FileFilter {
-        let config = std::fs::read_to_string(root.join(CONFIG_FILE))
-            .map(|text| AnalysisHost::parse_config(&text))
+        let config = std::fs::read(root.join(CONFIG_FILE))
+            .map(|bytes| AnalysisHost::parse_config(&FileContents::from_bytes(bytes)))
             .unwrap_or_default();
         FileFilter::new(&config.include, &config.exclude)
     }
@@ -118,8 +116,8 @@ impl FileFilter {
 fn glob_set(patterns: &[String]) -> GlobSet {
     let mut builder = GlobSetBuilder::new();
     for pattern in patterns {
-        // Invalid patterns are ignored here; `higraph.toml` problems are reported by the
-        // analysis.
+        // The configuration keeps only valid patterns (an invalid one is HG6101 and its key
+        // keeps the default), so nothing is lost here.
         if let Ok(glob) = Glob::new(pattern) {
             builder.add(glob);
         }
