@@ -15,8 +15,8 @@ const AREAS: &[&str] = &[
     "DIB", "DIW", "DID", "T", "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
 ];
 
-/// Areas that name blocks (`FC 10`, `DB 5`).
-const BLOCK_AREAS: &[&str] = &["OB", "FC", "FB", "DB", "SFC", "SFB"];
+/// Areas that name blocks (`FC 10`, `DB 5`, `UDT 5`; language.md §3.5).
+const BLOCK_AREAS: &[&str] = &["OB", "FC", "FB", "DB", "SFC", "SFB", "UDT"];
 
 /// Operations that open a bracket: `U(` and friends, also written `U (`.
 const BRACKET_OPS: &[&str] = &["U", "UN", "O", "ON", "X", "XN", "A", "AN"];
