@@ -334,6 +334,40 @@ fn quick_fixes_are_code_actions_with_their_diagnostic() {
         .as_array()
         .expect("edits");
     let fixed = apply_edits(text, edits);
+
+    // Without the client's diagnostics (fixes at the cursor) the server attaches its own,
+    // as it published it.
+    let at_cursor = server
+        .request(
+            "textDocument/codeAction",
+            json!({"textDocument": {"uri": uri}, "range": with_fix["range"], "context": {"diagnostics": []}}),
+        )
+        .expect("code actions");
+    assert_eq!(at_cursor[0]["title"], action["title"], "{at_cursor}");
+    assert_eq!(
+        at_cursor[0]["diagnostics"],
+        json!([with_fix]),
+        "{at_cursor}"
+    );
+
+    // Kinds are hierarchical: `quickfix` answers `quickfix` and the root kind, not a sub-kind
+    // or another kind.
+    let only = |server: &mut Server, kind: &str| {
+        server
+            .request(
+                "textDocument/codeAction",
+                json!({"textDocument": {"uri": uri}, "range": with_fix["range"],
+                       "context": {"diagnostics": [], "only": [kind]}}),
+            )
+            .expect("code actions")
+            .as_array()
+            .map_or(0, Vec::len)
+    };
+    assert_eq!(only(&mut server, "quickfix"), 1);
+    assert_eq!(only(&mut server, ""), 1);
+    assert_eq!(only(&mut server, "quickfix.foo"), 0);
+    assert_eq!(only(&mut server, "refactor"), 0);
+
     tree.file("a.higraph", &fixed);
     assert_eq!(tree.check_json()["summary"]["errors"], 0, "{fixed}");
     assert_eq!(server.shutdown_and_exit(), 0);

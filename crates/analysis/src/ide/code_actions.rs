@@ -24,6 +24,9 @@ pub struct CodeAction {
     pub code: Option<String>,
     /// The range of that diagnostic in the requested file.
     pub diagnostic_range: Option<TextRange>,
+    /// That diagnostic, for a client that asks for fixes without sending the diagnostics
+    /// it has (LSP attaches the diagnostic to its quick fix).
+    pub diagnostic: Diagnostic,
     /// The edits, possibly in several files.
     pub edit: SourceChange,
     /// The only fix of its diagnostic.
@@ -102,6 +105,7 @@ fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
                 title: fix.title.clone(),
                 code: Some(diagnostic.code.to_string()),
                 diagnostic_range: Some(diagnostic.range),
+                diagnostic: diagnostic.clone(),
                 edit: SourceChange { files: by_file },
                 is_preferred: preferred,
             }

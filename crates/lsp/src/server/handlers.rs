@@ -348,10 +348,13 @@ pub(crate) fn code_action(
     let Some((path, index)) = file(snapshot, &params.text_document) else {
         return Ok(None);
     };
+    // Kinds are hierarchical: `quickfix` is asked for by `quickfix` (or the empty kind, the
+    // root), not by a sub-kind such as `quickfix.foo` or by `refactor`.
     if let Some(only) = &params.context.only {
+        let quickfix = lsp::CodeActionKind::QUICKFIX;
         if !only
             .iter()
-            .any(|kind| kind.as_str().starts_with("quickfix"))
+            .any(|kind| kind.as_str().is_empty() || *kind == quickfix)
         {
             return Ok(Some(Vec::new()));
         }
@@ -363,7 +366,7 @@ pub(crate) fn code_action(
         let diagnostic_range = action
             .diagnostic_range
             .map(|range| convert::range(&index, range, snapshot.encoding));
-        let diagnostics: Vec<lsp::Diagnostic> = params
+        let mut diagnostics: Vec<lsp::Diagnostic> = params
             .context
             .diagnostics
             .iter()
@@ -373,10 +376,21 @@ pub(crate) fn code_action(
             })
             .cloned()
             .collect();
+        if diagnostics.is_empty() {
+            // The client sent no matching diagnostic (a request for the fixes at the cursor):
+            // attach the server's own, as it publishes it.
+            let files = snapshot.analysis.files();
+            diagnostics.push(convert::diagnostic(
+                &action.diagnostic,
+                &index,
+                snapshot.encoding,
+                |file, range| location(snapshot, &files.get(file.0 as usize)?.path, range),
+            ));
+        }
         response.push(lsp::CodeActionOrCommand::CodeAction(lsp::CodeAction {
             title: action.title.clone(),
             kind: Some(lsp::CodeActionKind::QUICKFIX),
-            diagnostics: (!diagnostics.is_empty()).then_some(diagnostics),
+            diagnostics: Some(diagnostics),
             edit: Some(workspace_edit(snapshot, &action.edit)?),
             command: None,
             is_preferred: action.is_preferred.then_some(true),

@@ -253,8 +253,13 @@ struct World {
     revision: u64,
     /// The revision whose diagnostics were last started.
     analysed: u64,
-    /// The diagnostics last published, by workspace path, with the URI they went to.
+    /// The diagnostics last published, by workspace path, with the URI they went to (also
+    /// empty lists: every workspace file is published once, clean or not).
     published: HashMap<String, (Uri, FileDiagnostics)>,
+    /// Open documents opened or changed since the last publication: their diagnostics are
+    /// published with the new version even when they did not change, so a client waiting for
+    /// the diagnostics of the version it sent gets them.
+    republish: HashSet<String>,
     /// The line indexes of the files that are not open (see [`Snapshot`]).
     shared_indexes: SharedLineIndexes,
     /// Converts the diagnostics of each revision (started with the first one).
@@ -279,6 +284,7 @@ impl World {
             revision: 0,
             analysed: 0,
             published: HashMap::new(),
+            republish: HashSet::new(),
             shared_indexes: SharedLineIndexes::default(),
             diagnostics: None,
             index_progress: None,
@@ -445,6 +451,7 @@ impl World {
             self.host
                 .upsert_file(&name, FileContents::Text(text.clone()));
             self.revision += 1;
+            self.republish.insert(name.clone());
         }
         Arc::make_mut(&mut self.open_uris).insert(name.clone(), uri.clone());
         self.documents
@@ -455,6 +462,20 @@ impl World {
         let Some(name) = self.paths.name(uri) else {
             return;
         };
+        if let Some(have) = self
+            .documents
+            .get(&name)
+            .map(|d| d.version)
+            .filter(|&have| version <= have)
+        {
+            self.log(
+                MessageType::WARNING,
+                format!(
+                    "{}: version {version} is not newer than {have}; applying the change anyway",
+                    uri.as_str()
+                ),
+            );
+        }
         match self
             .documents
             .change(&name, version, changes, self.support.encoding)
@@ -479,6 +500,7 @@ impl World {
                         .upsert_file(&name, FileContents::Text(document.text.clone()));
                 }
                 self.revision += 1;
+                self.republish.insert(name);
             }
             Err(rejected) => self.log(
                 MessageType::WARNING,
@@ -599,7 +621,8 @@ impl World {
     }
 
     /// Publishes the diagnostics of every file whose diagnostics changed since they were last
-    /// published; a file that has none any more gets an empty list.
+    /// published, of every file not published yet (an empty list for a clean file), and of
+    /// every open document opened or changed since (with its version).
     fn publish(&mut self, files: Vec<(String, FileDiagnostics)>) {
         let mut current: HashSet<String> = HashSet::new();
         for (name, diagnostics) in files {
@@ -617,8 +640,9 @@ impl World {
                 Some((published_uri, published)) => {
                     *published_uri == uri
                         && (Arc::ptr_eq(published, &diagnostics) || *published == diagnostics)
+                        && !self.republish.contains(&name)
                 }
-                None => diagnostics.is_empty(),
+                None => false,
             };
             if unchanged {
                 continue;
@@ -637,12 +661,9 @@ impl World {
                 diagnostics: diagnostics.to_vec(),
                 version,
             });
-            if diagnostics.is_empty() {
-                self.published.remove(&name);
-            } else {
-                self.published.insert(name, (uri, diagnostics));
-            }
+            self.published.insert(name, (uri, diagnostics));
         }
+        self.republish.clear();
         let gone: Vec<String> = self
             .published
             .keys()

@@ -138,18 +138,12 @@ pub(crate) enum Changed {
 pub(crate) enum ChangeRejected {
     /// The document is not open.
     NotOpen,
-    /// The version is not newer than the one the server has.
-    Stale { have: i32, got: i32 },
 }
 
 impl std::fmt::Display for ChangeRejected {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             ChangeRejected::NotOpen => f.write_str("the document is not open"),
-            ChangeRejected::Stale { have, got } => write!(
-                f,
-                "version {got} is not newer than the document's version {have}"
-            ),
         }
     }
 }
@@ -184,6 +178,11 @@ impl Documents {
     /// Applies the changes of one `didChange` notification, in order, and says what they did.
     /// Ranges are in `encoding`; out-of-range positions are clamped, never a panic. The line
     /// index follows the text: a ranged change rescans only the lines around it.
+    ///
+    /// The changes are applied whatever their version: notifications arrive in order, so a
+    /// version that is not newer is the client's bookkeeping error, and dropping the change
+    /// would leave the server answering about a text the client no longer has. The document
+    /// takes the notification's version.
     pub(crate) fn change(
         &mut self,
         name: &str,
@@ -192,12 +191,6 @@ impl Documents {
         encoding: PositionEncoding,
     ) -> Result<Changed, ChangeRejected> {
         let document = self.open.get_mut(name).ok_or(ChangeRejected::NotOpen)?;
-        if version <= document.version {
-            return Err(ChangeRejected::Stale {
-                have: document.version,
-                got: version,
-            });
-        }
         let mut edits = Vec::new();
         let mut replaced = false;
         for change in changes {
@@ -345,7 +338,7 @@ mod tests {
     }
 
     #[test]
-    fn changes_need_an_open_document_and_a_newer_version() {
+    fn changes_need_an_open_document_but_not_a_newer_version() {
         let mut documents = Documents::default();
         let uri: Uri = "file:///ws/a.higraph".parse().expect("a URI");
         assert_eq!(
@@ -360,7 +353,8 @@ mod tests {
                 vec![change(None, "b")],
                 PositionEncoding::Utf16
             ),
-            Err(ChangeRejected::Stale { have: 3, got: 3 })
+            Ok(Changed::Replaced),
+            "a version that is not newer is applied all the same"
         );
         assert_eq!(
             documents.change(
