@@ -4,8 +4,9 @@
 //!   (through the block's last token when the `>` is missing) — and every run of at least two
 //!   line comments on consecutive lines, each alone on its line.
 //! * A selection range chain starts at the token under the offset (a word rather than the
-//!   punctuation next to it; nothing for white space) and goes out through the enclosing
-//!   nodes to the whole file. Node ranges are trimmed to their first and last non-blank
+//!   punctuation next to it; nothing for white space), then, for a comment in a run of line
+//!   comments, the run (as folded), and goes out through the enclosing nodes to the whole
+//!   file. Node ranges are trimmed to their first and last non-blank
 //!   token, and a range equal to the previous one is left out.
 
 use higraph_syntax::{
@@ -212,6 +213,17 @@ fn selection_chain(root: &SyntaxNode, offset: TextSize) -> Vec<TextRange> {
             if token.kind() != WHITESPACE {
                 push(Some(token.text_range()));
             }
+            if token.kind() == COMMENT
+                && let Some(parent) = token.parent()
+            {
+                // A comment in a run of line comments: the whole run (the fold of the run).
+                push(
+                    comment_folds(&parent)
+                        .into_iter()
+                        .map(|fold| fold.range)
+                        .find(|run| run.contains_range(token.text_range())),
+                );
+            }
             token.parent()
         }
         None => Some(root.clone()),
@@ -399,6 +411,23 @@ chart C <
         "<\n  \n  state 0 < >\n>"
         "graph G <\n  \n  state 0 < >\n>"
         "graph G <\n  \n  state 0 < >\n>\n"
+        "#);
+    }
+
+    #[test]
+    fn selection_of_a_comment_in_a_run_takes_the_run_next() {
+        insta::assert_snapshot!(selections("// one\n// t$0wo\n// three\ngraph G < >\n"), @r#"
+        "// two"
+        "// one\n// two\n// three"
+        "// one\n// two\n// three\ngraph G < >"
+        "// one\n// two\n// three\ngraph G < >\n"
+        "#);
+        // A comment alone is not a run.
+        insta::assert_snapshot!(selections("graph G <\n  // al$0one\n  state 0 < >\n>\n"), @r#"
+        "// alone"
+        "<\n  // alone\n  state 0 < >\n>"
+        "graph G <\n  // alone\n  state 0 < >\n>"
+        "graph G <\n  // alone\n  state 0 < >\n>\n"
         "#);
     }
 
