@@ -174,6 +174,19 @@ pub(crate) fn graph_members<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db
 
 // ------------------------------------------------------------------------------ tables
 
+/// The rank of a proposal of type `ty` at `base`: as is if the type is preferred (or nothing
+/// is), three ranks later if not, and `None` (not proposed) if not and `only` preferred types
+/// are wanted.
+fn preference_rank(preferred: &[Type], only: bool, ty: Option<Type>, base: u8) -> Option<u8> {
+    if preferred.is_empty() || ty.is_some_and(|t| preferred.contains(&t)) {
+        Some(base)
+    } else if only {
+        None
+    } else {
+        Some(base + 3)
+    }
+}
+
 /// What an STL operation takes as operand, for ordering operand proposals.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum OperandClass {
@@ -1106,7 +1119,7 @@ impl<'a> Completer<'a> {
             Site::Operand { node, opcode, time } => self.operand(&node, opcode.as_deref(), time),
             Site::GraphVariable(graph) => {
                 if let Some(scope) = self.graph_scope(&graph) {
-                    self.variables(&scope, &[], false);
+                    self.variables(&scope, &[], false, false);
                 }
             }
             Site::Type { interface } => self.types(interface),
@@ -1406,23 +1419,24 @@ impl<'a> Completer<'a> {
             self.block_symbols();
             return;
         }
+        // A time value must be of type TIME (HG3004): nothing else is proposed there. Elsewhere
+        // the preferred types come first and the rest after them.
+        let only = time;
         if !self.cursor.quoted() {
-            self.variables(&scope, preferred, true);
+            self.variables(&scope, preferred, only, true);
         }
-        self.symbols(preferred, scope.interface);
+        self.symbols(preferred, only, scope.interface);
     }
 
-    /// The graph's variables and active predefined variables. `hash`: write `#Name` where a
-    /// plain name would read as an address.
-    fn variables(&mut self, scope: &GraphScope<'_>, preferred: &[Type], hash: bool) {
-        let rank = |ty: Option<Type>, base: u8| {
-            if preferred.is_empty() || ty.is_some_and(|t| preferred.contains(&t)) {
-                base
-            } else {
-                base + 3
-            }
-        };
+    /// The graph's variables and active predefined variables, those of a `preferred` type
+    /// first (`only`: no others). `hash`: write `#Name` where a plain name would read as an
+    /// address.
+    fn variables(&mut self, scope: &GraphScope<'_>, preferred: &[Type], only: bool, hash: bool) {
+        let rank = |ty: Option<Type>, base: u8| preference_rank(preferred, only, ty, base);
         for var in &scope.interface.vars {
+            let Some(rank) = rank(var.ty, 0) else {
+                continue;
+            };
             let kind = if var.message().is_some() {
                 CompletionKind::Message
             } else {
@@ -1430,7 +1444,7 @@ impl<'a> Completer<'a> {
             };
             let needs_hash = hash && self.reads_as_address(&var.name);
             let detail = var_detail(var);
-            if let Some(item) = self.out.add(rank(var.ty, 0), var.name.clone(), kind) {
+            if let Some(item) = self.out.add(rank, var.name.clone(), kind) {
                 item.detail = Some(detail);
                 if needs_hash {
                     item.insert_text = Some(format!("#{}", var.name));
@@ -1444,11 +1458,13 @@ impl<'a> Completer<'a> {
             {
                 continue;
             }
-            if let Some(item) = self.out.add(
-                rank(Some(predefined.ty), 1),
-                predefined.name,
-                CompletionKind::PredefinedVariable,
-            ) {
+            let Some(rank) = rank(Some(predefined.ty), 1) else {
+                continue;
+            };
+            if let Some(item) =
+                self.out
+                    .add(rank, predefined.name, CompletionKind::PredefinedVariable)
+            {
                 item.detail = Some(format!(
                     "{} {} (predefined)",
                     predefined.section.as_str(),
@@ -1468,7 +1484,8 @@ impl<'a> Completer<'a> {
     /// Global symbols (not blocks). A symbol is quoted when it is not an identifier, when a
     /// variable of the graph has its name, when it reads as an address, or when the user
     /// started with `"`.
-    fn symbols(&mut self, preferred: &[Type], shadowing: &GraphInterface) {
+    /// Global symbols, those of a `preferred` type first (`only`: no others).
+    fn symbols(&mut self, preferred: &[Type], only: bool, shadowing: &GraphInterface) {
         let quoted = self.cursor.quoted();
         let index = self.index;
         let mut seen = HashSet::new();
@@ -1489,11 +1506,8 @@ impl<'a> Completer<'a> {
             if !matches_typed(&label, &self.out.typed) || !seen.insert(index::key(&symbol.name)) {
                 continue;
             }
-            let rank = if preferred.is_empty() || symbol.ty.is_some_and(|t| preferred.contains(&t))
-            {
-                2
-            } else {
-                5
+            let Some(rank) = preference_rank(preferred, only, symbol.ty, 2) else {
+                continue;
             };
             if let Some(item) = self.out.add(rank, label, CompletionKind::Symbol) {
                 item.detail = Some(symbol_detail(symbol));
@@ -1635,7 +1649,7 @@ impl<'a> Completer<'a> {
         {
             self.message_instances(instance);
         }
-        self.symbols(&preferred, &GraphInterface::default());
+        self.symbols(&preferred, false, &GraphInterface::default());
     }
 
     /// The instances of the group of `current` (other than it) that have incoming messages,
@@ -1803,7 +1817,7 @@ impl<'a> Completer<'a> {
             }
         }
         if !chart.is_type() {
-            self.symbols(&[], &GraphInterface::default());
+            self.symbols(&[], false, &GraphInterface::default());
         }
         if negatable && !self.cursor.quoted() {
             self.out.keyword(3, "not", "logical negation");
@@ -2264,14 +2278,9 @@ PredefinedVariable ST_CurrValue · stat DWORD (predefined)
     }
 
     #[test]
-    fn time_values_prefer_time_operands() {
-        insta::assert_snapshot!(check(&valve("  state 5 < supervise L$0")), @r#"
-Symbol Laufzeit · MD 4 TIME
-Variable Zaehler · out COUNTER
-PredefinedVariable ManualMode · in BOOL (predefined)
-PredefinedVariable ST_CurrValue · stat DWORD (predefined)
-PredefinedVariable WT_CurrValue · stat DWORD (predefined)
-"#);
+    fn time_values_propose_only_time_operands() {
+        // language.md §3.2: a time value is a time constant or a TIME operand (HG3004).
+        insta::assert_snapshot!(check(&valve("  state 5 < supervise L$0")), @"Symbol Laufzeit · MD 4 TIME");
     }
 
     #[test]

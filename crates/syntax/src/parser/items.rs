@@ -124,7 +124,8 @@ fn mnemonic(p: &mut Parser<'_>) -> String {
     let set = if p.at_kw(SIMATIC_KW) || p.at_kw(INTERNATIONAL_KW) {
         let set = p.nth_text(0).to_ascii_lowercase();
         p.bump_keyword();
-        p.expect_semi(&"the 'mnemonic' directive", |_| false);
+        // An item keyword on the same line begins the next item (diagnostics.md HG0002).
+        p.expect_semi(&"the 'mnemonic' directive", |p| p.at_item_start());
         set
     } else {
         p.error_and_recover("'simatic' or 'international'");
