@@ -1006,6 +1006,16 @@ pub(crate) fn literal_type(lit: &Literal) -> Option<Type> {
     }
 }
 
+/// The reference of a block reference (`FC 10`, `FC10`, `Name`, `"Name"`) in the sense of
+/// `diagnostics.md` §2.3: the whole reference, except that a quoted symbol is meant without
+/// its quotes.
+pub(crate) fn block_reference_range(block: &ast::BlockRef) -> TextRange {
+    block
+        .symbol_ref()
+        .and_then(|s| s.token())
+        .map_or_else(|| block.syntax().text_range(), |t| string_inner_range(&t))
+}
+
 /// The range of a STRING token without its quotes.
 pub(crate) fn string_inner_range(token: &higraph_syntax::SyntaxToken) -> TextRange {
     let range = token.text_range();

@@ -83,7 +83,7 @@ pub(super) fn check(ctx: &mut Ctx<'_>, scope: &mut GraphScope, call: &Call<'_>) 
                 "interface of {} is unknown; its parameters are not checked",
                 callee.text
             );
-            let diag = ctx.diag("HG4307", callee.range, message);
+            let diag = ctx.diag("HG4307", callee.reference, message);
             ctx.push(diag);
         }
     }
@@ -108,7 +108,11 @@ pub(super) fn check(ctx: &mut Ctx<'_>, scope: &mut GraphScope, call: &Call<'_>) 
 struct Callee {
     /// The target as written (`FC 10`, `"Dosieren"`).
     text: String,
+    /// The whole target, quotes included (for edits).
     range: TextRange,
+    /// The target as a reference (§2.3: a quoted symbol without its quotes), where the
+    /// diagnostics about it go.
+    reference: TextRange,
     /// The block kind; `None` for a symbol whose address cannot be read.
     kind: Option<BlockKind>,
     address: Option<Address>,
@@ -123,7 +127,7 @@ fn resolve_target(ctx: &mut Ctx<'_>, scope: &GraphScope, target: &ast::BlockRef)
     let range = target.syntax().text_range();
     if let Some(address) = target.address() {
         let addr = resolve::read_address_node(ctx, &address).address?;
-        return callee_at(ctx, text, range, addr, None);
+        return callee_at(ctx, text, range, range, addr, None);
     }
     let (name, reference) = if let Some(name_ref) = target.name_ref() {
         let token = name_ref.token()?;
@@ -132,7 +136,7 @@ fn resolve_target(ctx: &mut Ctx<'_>, scope: &GraphScope, target: &ast::BlockRef)
             return match read.address {
                 Ok(addr) => {
                     resolve::shadowed_name_warning(ctx, scope, range, &name, &addr);
-                    callee_at(ctx, text, range, addr, None)
+                    callee_at(ctx, text, range, range, addr, None)
                 }
                 Err(error) => {
                     resolve::report_address_error(ctx, range, &text, &error);
@@ -143,18 +147,15 @@ fn resolve_target(ctx: &mut Ctx<'_>, scope: &GraphScope, target: &ast::BlockRef)
         (name, token.text_range())
     } else {
         let symbol_ref = target.symbol_ref()?;
-        let reference = symbol_ref
-            .token()
-            .map_or(range, |t| resolve::string_inner_range(&t));
-        (symbol_ref.name(), reference)
+        (symbol_ref.name(), resolve::block_reference_range(target))
     };
     let index = ctx.index;
     if let Some(symbol) = index.symbol(&name) {
         resolve::case_hint(ctx, reference, &name, &symbol.name);
         ctx.use_symbol(&symbol.name);
-        return callee_of_symbol(ctx, text, range, &name, symbol);
+        return callee_of_symbol(ctx, text, range, reference, &name, symbol);
     }
-    not_callable(ctx, range, &name);
+    not_callable(ctx, range, reference, &name);
     None
 }
 
@@ -163,6 +164,7 @@ fn callee_at(
     ctx: &mut Ctx<'_>,
     text: String,
     range: TextRange,
+    reference: TextRange,
     addr: Address,
     symbol: Option<String>,
 ) -> Option<Callee> {
@@ -170,6 +172,7 @@ fn callee_at(
         Some(kind) if kind.is_callable() => Some(Callee {
             text,
             range,
+            reference,
             kind: Some(kind),
             address: Some(addr),
             symbol,
@@ -182,7 +185,7 @@ fn callee_at(
                 (None, None) => format!("the address {}", addr.display(ctx.mnemonic)),
             };
             let name = symbol.unwrap_or(text);
-            cannot_be_called(ctx, range, &name, &what);
+            cannot_be_called(ctx, reference, &name, &what);
             None
         }
     }
@@ -192,15 +195,24 @@ fn callee_of_symbol(
     ctx: &mut Ctx<'_>,
     text: String,
     range: TextRange,
+    reference: TextRange,
     name: &str,
     symbol: &Symbol,
 ) -> Option<Callee> {
     match &symbol.address {
-        Some(addr) => callee_at(ctx, text, range, addr.clone(), Some(name.to_owned())),
+        Some(addr) => callee_at(
+            ctx,
+            text,
+            range,
+            reference,
+            addr.clone(),
+            Some(name.to_owned()),
+        ),
         // The symbol's address is malformed (HG6001 elsewhere): callable as far as we know.
         None => Some(Callee {
             text,
             range,
+            reference,
             kind: None,
             address: None,
             symbol: Some(symbol.name.clone()),
@@ -208,8 +220,9 @@ fn callee_of_symbol(
     }
 }
 
-/// HG4301 for a name that is no symbol: a graph, group or chart, or nothing at all.
-fn not_callable(ctx: &mut Ctx<'_>, range: TextRange, name: &str) {
+/// HG4301 for a name that is no symbol: a graph, group or chart, or nothing at all. The
+/// diagnostic covers the reference; the fix replaces the whole target (quotes included).
+fn not_callable(ctx: &mut Ctx<'_>, range: TextRange, reference: TextRange, name: &str) {
     let index = ctx.index;
     let item = index.item(name);
     let message = match item.map(|i| i.kind) {
@@ -220,7 +233,7 @@ fn not_callable(ctx: &mut Ctx<'_>, range: TextRange, name: &str) {
         Some(db::ItemKind::Chart) => format!("'{name}' is a chart, which cannot be called"),
         _ => format!("unknown block '{name}'"),
     };
-    let mut diag = ctx.diag("HG4301", range, message);
+    let mut diag = ctx.diag("HG4301", reference, message);
     let callable = index.symbols.iter().filter(|s| {
         s.address
             .as_ref()
@@ -260,15 +273,15 @@ fn check_instance_db(
         (Some(callee), None) if needs_db => {
             let block = &callee.text;
             let message = format!("{block} needs an instance DB: 'CALL {block}, DB n'");
-            let diag = ctx.diag("HG4302", callee.range, message);
+            let diag = ctx.diag("HG4302", callee.reference, message);
             ctx.push(diag);
         }
         (Some(callee), Some(db)) if takes_no_db => {
             resolve_db_silently(ctx, scope, db);
-            let range = db.syntax().text_range();
             let message = format!("{} takes no instance DB", callee.text);
-            let removal = TextRange::new(callee.range.end(), range.end());
-            let diag = ctx.diag("HG4302", range, message).fix(
+            let removal = TextRange::new(callee.range.end(), db.syntax().text_range().end());
+            let reference = resolve::block_reference_range(db);
+            let diag = ctx.diag("HG4302", reference, message).fix(
                 "Remove the instance DB",
                 ctx.loc(removal),
                 "",
@@ -278,7 +291,7 @@ fn check_instance_db(
         (_, Some(db)) if !resolve_db(ctx, scope, db) => {
             let name = block_ref_name(db);
             let message = format!("'{name}' is not a data block");
-            let diag = ctx.diag("HG4302", db.syntax().text_range(), message);
+            let diag = ctx.diag("HG4302", resolve::block_reference_range(db), message);
             ctx.push(diag);
         }
         _ => {}
@@ -313,10 +326,7 @@ fn resolve_db(ctx: &mut Ctx<'_>, scope: &GraphScope, db: &ast::BlockRef) -> bool
         }
         (name, token.text_range())
     } else if let Some(symbol_ref) = db.symbol_ref() {
-        let reference = symbol_ref
-            .token()
-            .map_or(range, |t| resolve::string_inner_range(&t));
-        (symbol_ref.name(), reference)
+        (symbol_ref.name(), resolve::block_reference_range(db))
     } else {
         return true;
     };
@@ -607,7 +617,7 @@ fn missing_parameters(
         callee.text,
         missing.join(", ")
     );
-    let diag = ctx.diag("HG4305", callee.range, message);
+    let diag = ctx.diag("HG4305", callee.reference, message);
     ctx.push(diag);
 }
 

@@ -12,6 +12,7 @@ use crate::{
     db::{self, File, ItemKind, ItemLoc, Workspace},
     diag::Loc,
     lang::Section,
+    resolve,
     rules::{Ctx, decls},
 };
 
@@ -21,7 +22,7 @@ pub(super) fn check_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInterface
         return;
     };
     let written = ast::unquote(&node_text(reference.syntax())).to_owned();
-    let range = reference.syntax().text_range();
+    let range = resolve::block_reference_range(&reference);
     if let Some(node) = reference.address()
         && check_address(ctx, &node).is_err()
     {
@@ -61,6 +62,7 @@ pub(crate) struct InterfaceTarget {
     pub item: u32,
     /// The block reference as written.
     pub reference: String,
+    /// The reference (§2.3: a quoted symbol without its quotes).
     pub reference_loc: Loc,
 }
 
@@ -97,7 +99,7 @@ pub(crate) fn block_interface_addresses(
                 file,
                 item,
                 reference: node_text(reference.syntax()),
-                reference_loc: Loc::in_item(file, item, reference.syntax().text_range()),
+                reference_loc: Loc::in_item(file, item, resolve::block_reference_range(&reference)),
             });
         }
     }
