@@ -277,7 +277,9 @@ fn check_instance_db(
             ctx.push(diag);
         }
         (Some(callee), Some(db)) if takes_no_db => {
-            resolve_db_silently(ctx, scope, db);
+            // The DB is still resolved: its uses count, and its own errors (HG4010, ...) are
+            // reported as well (C6).
+            resolve_db(ctx, scope, db);
             let message = format!("{} takes no instance DB", callee.text);
             let removal = TextRange::new(callee.range.end(), db.syntax().text_range().end());
             let reference = resolve::block_reference_range(db);
@@ -342,13 +344,6 @@ fn resolve_db(ctx: &mut Ctx<'_>, scope: &GraphScope, db: &ast::BlockRef) -> bool
         .is_none_or(|a| a.block_kind() == Some(BlockKind::Db))
 }
 
-/// Resolves an instance DB only to record its uses (its diagnostics are dropped).
-fn resolve_db_silently(ctx: &mut Ctx<'_>, scope: &GraphScope, db: &ast::BlockRef) {
-    let mark = ctx.out.diags.len();
-    resolve_db(ctx, scope, db);
-    ctx.out.diags.truncate(mark);
-}
-
 /// A block reference's name for messages: without quotes.
 fn block_ref_name(block: &ast::BlockRef) -> String {
     match block.symbol_ref() {
@@ -367,7 +362,8 @@ fn check_conditional_call(
     params: &[ast::Param],
 ) {
     if let Some(db) = instance_db {
-        resolve_db_silently(ctx, scope, db);
+        // HG4308 covers a DB given at all; its own errors (HG4010, ...) are reported too (C6).
+        resolve_db(ctx, scope, db);
     }
     let function_block = matches!(
         callee.and_then(|c| c.kind),
