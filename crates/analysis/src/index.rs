@@ -43,7 +43,8 @@ pub struct Symbol {
     /// Written as a quoted string.
     pub quoted: bool,
     pub source: SymbolSource,
-    /// The name (declared symbols: the NAME/STRING token; imported: the line).
+    /// The name (declared symbols: the NAME/STRING token; imported: the name field, without
+    /// quotes and padding).
     pub name_loc: Loc,
     /// The address as written.
     pub address_text: String,

@@ -9,7 +9,10 @@
 //!
 //! Addresses are read in the workspace's mnemonic set; those of the other set are translated.
 //! Lines end at LF, CR LF or a lone CR. The rules on the imported symbols themselves (HG6001,
-//! HG6002, HG6003, HG6006) are workspace rules in `rules::symbols`.
+//! HG6002, HG6003, HG6006, HG1301) are workspace rules in `rules::symbols`; they are reported
+//! on a field of the line (the name, the address or the data type, as each row of
+//! `diagnostics.md` says: the value inside the quotes, without padding), HG6005 and HG6007 on
+//! the whole line.
 
 use higraph_syntax::{TextRange, TextSize};
 
@@ -148,6 +151,8 @@ fn parse_table(
         }
         let range = TextRange::new(size(line_start), size(line_start + line.len()));
         let loc = Loc::in_file(file, range);
+        // A field's range in the file (its value, without quotes and padding).
+        let field_loc = |field: TextRange| Loc::in_file(file, field + size(line_start));
         let bad_line = |reason: String| {
             Diag::new(
                 "HG6005",
@@ -171,11 +176,11 @@ fn parse_table(
                     name: line.name,
                     quoted: true,
                     source: SymbolSource::Imported(import),
-                    name_loc: loc,
+                    name_loc: field_loc(line.name_range),
                     address_text: line.address_text,
-                    address_loc: loc,
+                    address_loc: field_loc(line.address_range),
                     address: Some(line.address),
-                    type_loc: None,
+                    type_loc: line.type_range.map(field_loc),
                     ty: line.ty,
                     type_text: line.type_text,
                     comment: line.comment,
@@ -191,10 +196,15 @@ fn parse_table(
 #[derive(Debug, Clone, PartialEq, Eq)]
 struct Line {
     name: String,
+    /// Where the name, the address and a non-empty data type stand in the line (the values
+    /// inside the quotes, without padding).
+    name_range: TextRange,
     address_text: String,
+    address_range: TextRange,
     address: Address,
     /// The data type field, if not empty.
     type_text: Option<String>,
+    type_range: Option<TextRange>,
     /// The type: the data type, else the address's; `None` if unsupported.
     ty: Option<Type>,
     /// The data type field if it names a type this language does not support (HG6007).
@@ -205,21 +215,25 @@ struct Line {
 /// Reads one line: four quoted fields — symbol, address, data type, comment.
 fn parse_line(text: &str, mnemonic: Mnemonic) -> Result<Line, String> {
     let fields = split_fields(text)?;
-    let [name, address_text, type_text, comment] = <[String; 4]>::try_from(fields)
+    let [name, address, data_type_field, comment] = <[Field; 4]>::try_from(fields)
         .map_err(|fields| format!("expected 4 fields, found {}", fields.len()))?;
-    if name.is_empty() {
+    if name.text.is_empty() {
         return Err("the symbol name is empty".to_owned());
     }
-    let address = read_address(&address_text, mnemonic)?;
-    let (ty, unsupported_type) = data_type(&type_text, &address, mnemonic);
+    let address_value = read_address(&address.text, mnemonic)?;
+    let (ty, unsupported_type) = data_type(&data_type_field.text, &address_value, mnemonic);
+    let typed = !data_type_field.text.is_empty();
     Ok(Line {
-        name,
-        address,
+        name: name.text,
+        name_range: name.range,
+        address: address_value,
+        address_range: address.range,
+        address_text: address.text,
         ty,
         unsupported_type,
-        type_text: (!type_text.is_empty()).then(|| type_text.clone()),
-        comment: (!comment.is_empty()).then_some(comment),
-        address_text,
+        type_range: typed.then_some(data_type_field.range),
+        type_text: typed.then_some(data_type_field.text),
+        comment: (!comment.text.is_empty()).then_some(comment.text),
     })
 }
 
@@ -289,10 +303,20 @@ fn parse_type(text: &str) -> Option<Type> {
     (1..=254).contains(&n).then_some(Type::String(n))
 }
 
-/// Splits `"a","b" , "c","d"` into trimmed field values.
-fn split_fields(line: &str) -> Result<Vec<String>, String> {
+/// One field of a line: its value without quotes and padding, and where that value stands in
+/// the line (an empty value: the position just inside its opening quote).
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Field {
+    text: String,
+    range: TextRange,
+}
+
+/// Splits `"a","b" , "c","d"` into trimmed field values with their ranges in the line.
+fn split_fields(line: &str) -> Result<Vec<Field>, String> {
     let mut fields = Vec::new();
-    let mut rest = line.trim();
+    // Offsets are kept relative to `line`: `rest` is always a suffix of it.
+    let offset = |rest: &str| line.len() - rest.len();
+    let mut rest = line.trim_start();
     loop {
         let Some(after_quote) = rest.strip_prefix('"') else {
             return Err("a field must be enclosed in double quotes".to_owned());
@@ -300,7 +324,13 @@ fn split_fields(line: &str) -> Result<Vec<String>, String> {
         let Some(end) = after_quote.find('"') else {
             return Err("a field is not closed with '\"'".to_owned());
         };
-        fields.push(after_quote[..end].trim().to_owned());
+        let raw = &after_quote[..end];
+        let value = raw.trim();
+        let start = offset(after_quote) + (raw.len() - raw.trim_start().len());
+        fields.push(Field {
+            text: value.to_owned(),
+            range: TextRange::at(size(start), size(value.len())),
+        });
         rest = after_quote[end + 1..].trim_start();
         if rest.is_empty() {
             return Ok(fields);
@@ -322,15 +352,15 @@ mod tests {
 
     #[test]
     fn splits_padded_fields() {
-        assert_eq!(
-            split_fields(r#""Motor ein"    ,"A   4.0 ","BOOL    ","Motor on""#),
-            Ok(vec![
-                "Motor ein".into(),
-                "A   4.0".into(),
-                "BOOL".into(),
-                "Motor on".into()
-            ])
-        );
+        let line = r#" "Motor ein"    ,"A   4.0 ","  BOOL    ","Motor on",""  "#;
+        let fields = split_fields(line).expect("fields");
+        let texts: Vec<&str> = fields.iter().map(|f| f.text.as_str()).collect();
+        assert_eq!(texts, ["Motor ein", "A   4.0", "BOOL", "Motor on", ""]);
+        for field in &fields {
+            assert_eq!(&line[field.range], field.text);
+        }
+        assert_eq!(fields[0].range, TextRange::new(2.into(), 11.into()));
+        assert_eq!(fields[4].range, TextRange::empty(53.into()));
         assert!(split_fields(r#""a","b"#).is_err());
         assert!(split_fields("a,b").is_err());
     }

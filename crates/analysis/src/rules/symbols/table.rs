@@ -109,7 +109,7 @@ pub(crate) fn type_fit_problem(
 }
 
 /// The type of an address, if a symbol may carry it.
-fn default_type(address: &Address) -> Option<Type> {
+pub(crate) fn default_type(address: &Address) -> Option<Type> {
     let ty = address.ty();
     (ty != Type::Block).then_some(ty)
 }

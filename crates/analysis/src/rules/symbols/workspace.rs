@@ -12,7 +12,7 @@ use higraph_syntax::{
 
 use super::{
     block_interface_addresses, is_local, symbol_display,
-    table::{name_length_problem, type_fit_problem},
+    table::{default_type, name_length_problem, type_fit_problem},
 };
 use crate::{
     address::Address,
@@ -266,7 +266,8 @@ fn symbol_node_loc(db: &dyn salsa::Database, symbol: &Symbol) -> Option<Loc> {
     ))
 }
 
-/// HG6001 (type does not fit, local data) and HG6006 for imported symbols, on their line.
+/// HG6001 (type does not fit: on the data type field; local data: on the address field) and
+/// HG6006 (on the name field) for imported symbols.
 fn check_imported(index: &GlobalIndex, out: &mut Vec<Diag>) {
     for symbol in &index.symbols {
         if symbol.source == SymbolSource::Declared {
@@ -295,7 +296,17 @@ fn check_imported(index: &GlobalIndex, out: &mut Vec<Diag>) {
             .filter(|_| symbol.type_text.is_some())
             .and_then(|ty| type_fit_problem(&symbol.name, address_text, address, ty))
         {
-            out.push(Diag::new("HG6001", symbol.address_loc, message));
+            // On the data type field, as on a declared symbol's type.
+            let loc = symbol.type_loc.unwrap_or(symbol.address_loc);
+            let mut diag = Diag::new("HG6001", loc, message);
+            if let (Some(default), Some(type_loc)) = (default_type(address), symbol.type_loc) {
+                diag = diag.fix(
+                    format!("Use the type {default}"),
+                    type_loc,
+                    default.to_string(),
+                );
+            }
+            out.push(diag);
         }
     }
 }
