@@ -130,9 +130,16 @@ impl BodyKind {
 }
 
 fn check_body(ctx: &mut Ctx<'_>, scope: &mut GraphScope, body: &ast::Body, kind: &BodyKind) {
+    let mut unlabelled = UnlabelledRun::default();
     for item in body.body_items() {
         match item {
-            ast::BodyItem::Block(block) => check_block(ctx, scope, &block, kind),
+            ast::BodyItem::Block(block) => {
+                match block.label() {
+                    None => unlabelled.add(&block),
+                    Some(_) => unlabelled.report(ctx, kind),
+                }
+                check_block(ctx, scope, &block, kind);
+            }
             ast::BodyItem::Wait(wait) => {
                 let range = wait.syntax().text_range();
                 if let Some(value) = wait.value() {
@@ -147,15 +154,15 @@ fn check_body(ctx: &mut Ctx<'_>, scope: &mut GraphScope, body: &ast::Body, kind:
             }
         }
     }
+    unlabelled.report(ctx, kind);
 }
 
 /// One block: its label (HG4001, HG4002), its statements and its brackets (HG4005, HG4006).
 fn check_block(ctx: &mut Ctx<'_>, scope: &mut GraphScope, block: &ast::Block, kind: &BodyKind) {
     let label = block.label();
     let label_name = label.as_ref().map(|l| l.name());
-    match &label {
-        None => unlabelled_statements(ctx, block, kind),
-        Some(label) => check_label(ctx, label, kind),
+    if let Some(label) = &label {
+        check_label(ctx, label, kind);
     }
     let condition_of = match kind {
         BodyKind::Transition { label } if matches!(label_name.as_deref(), None | Some("?")) => {
@@ -179,29 +186,47 @@ fn check_block(ctx: &mut Ctx<'_>, scope: &mut GraphScope, block: &ast::Block, ki
     brackets.finish(ctx, end);
 }
 
-/// HG4001: statements before the first label of a state or of `permanent`.
-fn unlabelled_statements(ctx: &mut Ctx<'_>, block: &ast::Block, kind: &BodyKind) {
-    let message = match kind {
-        BodyKind::State { number } => format!(
-            "statement outside an instruction block: state {number} needs a label such as 'C:' before it"
-        ),
-        BodyKind::Permanent => "statement outside an instruction block: permanent instructions need 'C-:' or 'C:' before it".to_owned(),
-        BodyKind::Transition { .. } => return,
-    };
-    let ranges: Vec<TextRange> = block
-        .statements()
-        .filter_map(|s| statement_range(&s))
-        .collect();
-    let (Some(first), Some(last)) = (ranges.first(), ranges.last()) else {
-        return;
-    };
-    let range = first.cover(*last);
-    let diag = ctx.diag("HG4001", range, message).fix(
-        "Insert 'C:'",
-        ctx.loc(TextRange::empty(first.start())),
-        "C: ",
-    );
-    ctx.push(diag);
+/// HG4001: the unlabelled statements of a state or of `permanent` up to the next label (or the
+/// end of the body). A `wait` or `supervise` item ends a block, so one run may be several
+/// unlabelled blocks (`U Ein; supervise T#5S; = b;`): it gets one diagnostic, from its first
+/// statement through its last, and its fix labels each of those blocks, so that no statement
+/// is left outside a block.
+#[derive(Default)]
+struct UnlabelledRun {
+    /// The range of each unlabelled block's statements, in text order.
+    blocks: Vec<TextRange>,
+}
+
+impl UnlabelledRun {
+    fn add(&mut self, block: &ast::Block) {
+        let mut ranges = block.statements().filter_map(|s| statement_range(&s));
+        if let Some(first) = ranges.next() {
+            let last = ranges.last().unwrap_or(first);
+            self.blocks.push(first.cover(last));
+        }
+    }
+
+    fn report(&mut self, ctx: &mut Ctx<'_>, kind: &BodyKind) {
+        let blocks = std::mem::take(&mut self.blocks);
+        let (Some(first), Some(last)) = (blocks.first(), blocks.last()) else {
+            return;
+        };
+        let message = match kind {
+            BodyKind::State { number } => format!(
+                "statement outside an instruction block: state {number} needs a label such as 'C:' before it"
+            ),
+            BodyKind::Permanent => "statement outside an instruction block: permanent instructions need 'C-:' or 'C:' before it".to_owned(),
+            BodyKind::Transition { .. } => return,
+        };
+        let edits = blocks
+            .iter()
+            .map(|block| (ctx.loc(TextRange::empty(block.start())), "C: ".to_owned()))
+            .collect();
+        let diag = ctx
+            .diag("HG4001", first.cover(*last), message)
+            .fix_edits("Insert 'C:'", edits);
+        ctx.push(diag);
+    }
 }
 
 /// HG4002: a label that is not allowed in this kind of body.
