@@ -9,7 +9,7 @@
 
 use std::collections::HashMap;
 
-use higraph_syntax::{SyntaxKind, TextRange, ast, ast::AstNode, literal};
+use higraph_syntax::{SyntaxKind, TextRange, TextSize, ast, ast::AstNode, literal};
 
 use super::{
     Ctx,
@@ -74,7 +74,7 @@ pub(super) fn check(ctx: &mut Ctx<'_>, scope: &mut GraphScope, call: &Call<'_>) 
         }
         _ => unchecked_parameters(ctx, scope, &params),
     };
-    report_other_set(ctx, &actuals);
+    report_other_set(ctx, call, &actuals);
     if let Some(callee) = &callee {
         if let Some(formals) = &formals {
             missing_parameters(ctx, callee, formals, &params, is_cc);
@@ -749,8 +749,9 @@ fn actual_type_name(actual: &Resolved<'_>) -> String {
 
 // ------------------------------------------------------------------------------ HG4007
 
-/// HG4007 once per call, for addresses of the other mnemonic set among the actuals.
-fn report_other_set(ctx: &mut Ctx<'_>, actuals: &[Resolved<'_>]) {
+/// HG4007 once per call, for addresses of the other mnemonic set among the actuals, with the
+/// call rewritten.
+fn report_other_set(ctx: &mut Ctx<'_>, call: &Call<'_>, actuals: &[Resolved<'_>]) {
     let offending: Vec<&(TextRange, String)> = actuals
         .iter()
         .filter_map(|a| a.other_set.as_ref())
@@ -761,5 +762,26 @@ fn report_other_set(ctx: &mut Ctx<'_>, actuals: &[Resolved<'_>]) {
     let range = offending
         .iter()
         .fold(*first_range, |range, (r, _)| range.cover(*r));
-    statement::other_set_diag(ctx, range, first_token, None);
+    let rewrite = translated_call(call, actuals).map(|text| (call.stmt_range, text));
+    statement::other_set_diag(ctx, range, first_token, rewrite);
+}
+
+/// The call as written, with every actual of the other mnemonic set replaced by its
+/// translation (`CALL FC 10 (x := E 1.0)` for `CALL FC 10 (x := I 1.0)` in a SIMATIC file).
+fn translated_call(call: &Call<'_>, actuals: &[Resolved<'_>]) -> Option<String> {
+    let node = call.stmt.syntax();
+    let text = node.text().to_string();
+    let start = node.text_range().start();
+    let slice = |from: TextSize, to: TextSize| -> Option<&str> {
+        text.get(usize::from(from.checked_sub(start)?)..usize::from(to.checked_sub(start)?))
+    };
+    let mut out = String::new();
+    let mut at = call.stmt_range.start();
+    for actual in actuals.iter().filter(|a| a.other_set.is_some()) {
+        out.push_str(slice(at, actual.range.start())?);
+        out.push_str(actual.translated.as_deref().unwrap_or(&actual.text));
+        at = actual.range.end();
+    }
+    out.push_str(slice(at, call.stmt_range.end())?);
+    Some(out)
 }
