@@ -137,6 +137,22 @@ impl SyntaxError {
         });
         self
     }
+
+    /// A fix with several edits (ranges in the original text, not overlapping).
+    pub fn with_fix_edits(
+        mut self,
+        title: impl Into<String>,
+        edits: Vec<(TextRange, String)>,
+    ) -> SyntaxError {
+        self.fixes.push(Fix {
+            title: title.into(),
+            edits: edits
+                .into_iter()
+                .map(|(range, new_text)| TextEdit { range, new_text })
+                .collect(),
+        });
+        self
+    }
 }
 
 impl SyntaxError {

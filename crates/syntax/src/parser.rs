@@ -144,6 +144,8 @@ pub(crate) struct Parser<'t> {
     /// End of the last significant token added to the tree.
     last_end: TextSize,
     text_len: TextSize,
+    /// Where the text begins after a leading byte-order mark (0 without one).
+    text_start: TextSize,
     /// Address of the text: a token's offset is its text's address minus this.
     base: usize,
     builder: TreeBuilder<'t>,
@@ -261,6 +263,7 @@ impl<'t> Parser<'t> {
             trivia_emitted: 0,
             last_end: TextSize::from(0),
             text_len: offset,
+            text_start: text_size(bom),
             base: text.as_ptr() as usize,
             builder,
             errors,
@@ -269,6 +272,11 @@ impl<'t> Parser<'t> {
 
     fn finish(self) -> (GreenNode, Vec<SyntaxError>) {
         (self.builder.finish(), self.errors)
+    }
+
+    /// The top of the file: offset 0, or the end of a leading byte-order mark.
+    pub(crate) fn text_start(&self) -> TextSize {
+        self.text_start
     }
 
     /// Does the text begin with a significant token (no leading trivia)?

@@ -14,7 +14,12 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
     while !p.at_eof() {
         let start = p.nth_range(0).start();
         let mut set = None;
+        // The directive's keyword and set as written, for the HG0010 fix to move (`None`
+        // without a valid set: then there is nothing sound to move).
+        let mut directive = None;
         if p.at_kw(MNEMONIC_KW) {
+            directive = (p.nth_is_kw(1, SIMATIC_KW) || p.nth_is_kw(1, INTERNATIONAL_KW))
+                .then(|| (p.nth_text(0), p.nth_text(1)));
             set = Some(mnemonic(p));
         } else if p.at(R_ANGLE) {
             let range = p.nth_range(0);
@@ -37,18 +42,21 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
             match &first_mnemonic {
                 None => {
                     if seen_item {
-                        p.push_error(
-                            SyntaxError::new(
-                                ErrorCode::HG0010,
-                                range,
-                                "'mnemonic' must be the first item of the file",
-                            )
-                            .with_fix(
-                                "Move it to the top of the file",
-                                range,
-                                "",
-                            ),
+                        let mut error = SyntaxError::new(
+                            ErrorCode::HG0010,
+                            range,
+                            "'mnemonic' must be the first item of the file",
                         );
+                        // Move: insert it at the top (only comments may precede it there),
+                        // delete it here.
+                        if let Some((keyword, set)) = directive {
+                            let top = TextRange::empty(p.text_start());
+                            error = error.with_fix_edits(
+                                "Move it to the top of the file",
+                                vec![(top, format!("{keyword} {set};\n")), (range, String::new())],
+                            );
+                        }
+                        p.push_error(error);
                     }
                     first_mnemonic = Some((range, set));
                 }
