@@ -161,13 +161,14 @@ pub fn file_diagnostics(
         {
             continue;
         }
-        out.push(convert(db, diag, severity, range, ids));
+        out.push(convert(db, ws, diag, severity, range, ids));
     }
     out
 }
 
 fn convert(
     db: &dyn salsa::Database,
+    ws: Workspace,
     diag: &Diag,
     severity: Severity,
     range: TextRange,
@@ -193,17 +194,23 @@ fn convert(
         fixes: diag
             .fixes
             .iter()
-            .map(|fix| Fix {
-                title: fix.title.clone(),
-                edits: fix
-                    .edits
-                    .iter()
-                    .map(|(loc, new_text)| TextEdit {
-                        file: file_id(&loc.file),
-                        range: db::absolute_range(db, loc),
-                        new_text: new_text.clone(),
-                    })
-                    .collect(),
+            .filter_map(|fix| {
+                let edits = match &fix.rename_to {
+                    Some(new_name) => rename_edits(db, ws, fix, new_name, ids)?,
+                    None => fix
+                        .edits
+                        .iter()
+                        .map(|(loc, new_text)| TextEdit {
+                            file: file_id(&loc.file),
+                            range: db::absolute_range(db, loc),
+                            new_text: new_text.clone(),
+                        })
+                        .collect(),
+                };
+                Some(Fix {
+                    title: fix.title.clone(),
+                    edits,
+                })
             })
             .collect(),
         tags: if diag.unnecessary {
@@ -212,6 +219,32 @@ fn convert(
             Vec::new()
         },
     }
+}
+
+/// The edits of a rename fix ([`crate::diag::DiagFix::rename_to`]): the workspace rename of
+/// the name at the fix's first edit; `None` if the rename engine refuses it.
+fn rename_edits(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    fix: &crate::diag::DiagFix,
+    new_name: &str,
+    ids: &HashMap<File, FileId>,
+) -> Option<Vec<TextEdit>> {
+    let (declaration, _) = fix.edits.first()?;
+    let offset = db::absolute_range(db, declaration).start();
+    let change =
+        crate::ide::rename::rename_edits(db, ws, declaration.file, offset, new_name).ok()?;
+    let by_path: HashMap<&String, File> = ws.files(db).iter().map(|&f| (f.path(db), f)).collect();
+    let mut edits = Vec::new();
+    for (path, file_edits) in &change.files {
+        let file = ids.get(by_path.get(path)?)?;
+        edits.extend(file_edits.iter().map(|edit| TextEdit {
+            file: *file,
+            range: edit.range,
+            new_text: edit.new_text.clone(),
+        }));
+    }
+    Some(edits)
 }
 
 fn size(n: usize) -> TextSize {

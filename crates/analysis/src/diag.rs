@@ -75,6 +75,12 @@ impl Loc {
 pub struct DiagFix {
     pub title: String,
     pub edits: Vec<(Loc, String)>,
+    /// A rename of the declared name at the first edit's place to this name, through the
+    /// workspace rename engine ([`crate::ide::rename`]): when the diagnostic is converted
+    /// ([`crate::check`]), the engine's edits — the declaration and every reference, in every
+    /// file — replace `edits`, and the fix is dropped if the engine refuses the new name.
+    /// An item's analysis cannot see the other files; this defers that part.
+    pub rename_to: Option<String>,
 }
 
 /// A diagnostic of a rule, before severities, suppressions and absolute positions.
@@ -111,6 +117,18 @@ impl Diag {
         self.fixes.push(DiagFix {
             title: title.into(),
             edits: vec![(at, new_text.into())],
+            rename_to: None,
+        });
+        self
+    }
+
+    /// A fix that renames the declared name at `at` to `new_name` everywhere in the workspace
+    /// (see [`DiagFix::rename_to`]).
+    pub fn rename_fix(mut self, title: impl Into<String>, at: Loc, new_name: &str) -> Diag {
+        self.fixes.push(DiagFix {
+            title: title.into(),
+            edits: vec![(at, new_name.to_owned())],
+            rename_to: Some(new_name.to_owned()),
         });
         self
     }
@@ -160,6 +178,7 @@ impl Diag {
         self.fixes.push(DiagFix {
             title: title.into(),
             edits,
+            rename_to: None,
         });
         self
     }

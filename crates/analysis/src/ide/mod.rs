@@ -31,7 +31,7 @@ mod highlights;
 mod hover;
 mod inlay_hints;
 mod references;
-mod rename;
+pub(crate) mod rename;
 mod semantic_tokens;
 mod symbols;
 

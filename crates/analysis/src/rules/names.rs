@@ -7,48 +7,46 @@
 //! * HG1103 — the name is a reserved word of Appendix A.1 for the file's mnemonic set.
 //!
 //! The rename fixes are offered only if the new name is valid (passes all three rules) and free
-//! in the name's namespace. They edit the declaration and every same-spelled reference to it
-//! *within the same item* (references in other items are left to the editor's rename).
-//! Names that are not identifiers (quoted symbols, numeric step names) are exempt.
+//! in the name's namespace. They are renames of the workspace rename engine
+//! ([`crate::ide::rename`], deferred to [`crate::check`] through
+//! [`crate::diag::DiagFix::rename_to`]): they edit the declaration and every reference to it in
+//! every file, exactly as the editor's rename would — and are dropped where it refuses the new
+//! name. Names that are not identifiers (quoted symbols, numeric step names) are exempt.
 
-use higraph_syntax::{SyntaxKind, SyntaxNode, SyntaxToken, TextRange, ast, ast::AstNode};
+use higraph_syntax::{SyntaxKind, SyntaxToken, ast, ast::AstNode};
 
 use super::Ctx;
-use crate::{diag::Loc, lang};
+use crate::lang;
 
-/// Where a declared name lives: decides which names a rename must avoid and which references
-/// it updates.
+/// Where a declared name lives: decides which names a rename must avoid.
 enum Namespace {
     /// Graphs, groups, charts and `NAME` symbols: the workspace namespace.
     Global,
-    /// A graph variable: the graph's variables and the predefined variables; references are
-    /// the graph's operands.
+    /// A graph variable: the graph's variables and the predefined variables.
     GraphVariable(Vec<String>),
-    /// A chart variable: the chart's variables; references are one-segment chart paths.
+    /// A chart variable: the chart's variables.
     ChartVariable(Vec<String>),
-    /// A block interface variable: the interface's variables; no references.
+    /// A block interface variable: the interface's variables.
     BlockVariable(Vec<String>),
-    /// A group instance: the group's instances; references are `Inst.Msg` targets.
+    /// A group instance: the group's instances.
     Instance(Vec<String>),
-    /// A sequencer: the chart's sequencers; no references.
+    /// A sequencer: the chart's sequencers.
     Sequencer(Vec<String>),
-    /// A step: the sequencer's steps; references are jump and loop targets.
+    /// A step: the sequencer's steps.
     Step(Vec<String>),
-    /// A chart transition, jump or loop: the sequencer's transitions; no references.
+    /// A chart transition, jump or loop: the sequencer's transitions.
     ChartTransition(Vec<String>),
 }
 
 /// Checks the graph's name and its variables.
 pub(crate) fn check_graph(ctx: &mut Ctx<'_>, graph: &ast::Graph) {
-    let root = graph.syntax().clone();
-    check_name(ctx, &root, graph.name(), &Namespace::Global);
-    check_variables(ctx, &root, graph.var_sections(), Namespace::GraphVariable);
+    check_name(ctx, graph.name(), &Namespace::Global);
+    check_variables(ctx, graph.var_sections(), Namespace::GraphVariable);
 }
 
 /// Checks the group's name and its instances.
 pub(crate) fn check_group(ctx: &mut Ctx<'_>, group: &ast::Group) {
-    let root = group.syntax().clone();
-    check_name(ctx, &root, group.name(), &Namespace::Global);
+    check_name(ctx, group.name(), &Namespace::Global);
     let instances: Vec<String> = group
         .instances()
         .filter_map(|i| i.name())
@@ -56,15 +54,14 @@ pub(crate) fn check_group(ctx: &mut Ctx<'_>, group: &ast::Group) {
         .collect();
     let namespace = Namespace::Instance(instances);
     for instance in group.instances() {
-        check_name(ctx, &root, instance.name(), &namespace);
+        check_name(ctx, instance.name(), &namespace);
     }
 }
 
 /// Checks the chart's name, variables, sequencers and sequencer elements.
 pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
-    let root = chart.syntax().clone();
-    check_name(ctx, &root, chart.name(), &Namespace::Global);
-    check_variables(ctx, &root, chart.var_sections(), Namespace::ChartVariable);
+    check_name(ctx, chart.name(), &Namespace::Global);
+    check_variables(ctx, chart.var_sections(), Namespace::ChartVariable);
     let sequencers: Vec<ast::Sequencer> = chart.sequencers().collect();
     let sequencer_names: Vec<String> = sequencers
         .iter()
@@ -73,15 +70,15 @@ pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
         .collect();
     let namespace = Namespace::Sequencer(sequencer_names);
     for sequencer in &sequencers {
-        check_name(ctx, &root, sequencer.name(), &namespace);
+        check_name(ctx, sequencer.name(), &namespace);
         check_sequencer_elements(ctx, sequencer);
     }
 }
 
 /// Steps, chart transitions, jumps and loops of one sequencer, at every nesting level.
 fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
-    let root = sequencer.syntax().clone();
-    let elements: Vec<ast::SeqElement> = root
+    let elements: Vec<ast::SeqElement> = sequencer
+        .syntax()
         .descendants()
         .filter_map(ast::SeqElement::cast)
         .collect();
@@ -109,7 +106,7 @@ fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
                 None => continue,
             },
         };
-        check_name(ctx, &root, name, ns);
+        check_name(ctx, name, ns);
     }
 }
 
@@ -126,28 +123,20 @@ fn transition_name(element: &ast::SeqElement) -> Option<Option<ast::Name>> {
 
 /// Checks the symbols written as a NAME (quoted symbols are exempt).
 pub(crate) fn check_symbols(ctx: &mut Ctx<'_>, table: &ast::Symbols) {
-    let root = table.syntax().clone();
     for symbol in table.symbols() {
-        check_name(ctx, &root, symbol.name(), &Namespace::Global);
+        check_name(ctx, symbol.name(), &Namespace::Global);
     }
 }
 
 /// Checks the variables of a `block` interface.
 pub(crate) fn check_block_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInterface) {
-    let root = interface.syntax().clone();
-    check_variables(
-        ctx,
-        &root,
-        interface.var_sections(),
-        Namespace::BlockVariable,
-    );
+    check_variables(ctx, interface.var_sections(), Namespace::BlockVariable);
 }
 
 /// Checks the variables of some sections; `namespace` makes their namespace from the names of
 /// all of them, in declaration order.
 fn check_variables(
     ctx: &mut Ctx<'_>,
-    root: &SyntaxNode,
     sections: impl Iterator<Item = ast::VarSection>,
     namespace: fn(Vec<String>) -> Namespace,
 ) {
@@ -159,12 +148,12 @@ fn check_variables(
         .collect();
     let namespace = namespace(names);
     for decl in &decls {
-        check_name(ctx, root, decl.name(), &namespace);
+        check_name(ctx, decl.name(), &namespace);
     }
 }
 
 /// HG1101–HG1103 for one declared name.
-fn check_name(ctx: &mut Ctx<'_>, root: &SyntaxNode, name: Option<ast::Name>, ns: &Namespace) {
+fn check_name(ctx: &mut Ctx<'_>, name: Option<ast::Name>, ns: &Namespace) {
     let Some(token) = name.and_then(|n| n.token()) else {
         return;
     };
@@ -177,13 +166,13 @@ fn check_name(ctx: &mut Ctx<'_>, root: &SyntaxNode, name: Option<ast::Name>, ns:
     if text.ends_with('_') {
         let message = format!("name '{text}' must not end with '_'");
         let diag = ctx.diag("HG1101", range, message);
-        let diag = with_rename(ctx, diag, root, &token, text.trim_end_matches('_'), ns);
+        let diag = with_rename(ctx, diag, &token, text.trim_end_matches('_'), ns);
         ctx.push(diag);
     }
     if text.contains("__") {
         let message = format!("name '{text}' must not contain '__'");
         let diag = ctx.diag("HG1102", range, message);
-        let diag = with_rename(ctx, diag, root, &token, &collapse_underscores(text), ns);
+        let diag = with_rename(ctx, diag, &token, &collapse_underscores(text), ns);
         ctx.push(diag);
     }
     if let Some(kind) = lang::reserved_kind(text, ctx.mnemonic) {
@@ -205,11 +194,10 @@ fn collapse_underscores(text: &str) -> String {
     out
 }
 
-/// Adds the rename fix if `new_name` is valid and free.
+/// Adds the rename fix if `new_name` is valid and free (the rename engine decides the rest).
 fn with_rename(
     ctx: &Ctx<'_>,
     diag: crate::diag::Diag,
-    root: &SyntaxNode,
     declaration: &SyntaxToken,
     new_name: &str,
     ns: &Namespace,
@@ -217,13 +205,11 @@ fn with_rename(
     if !is_valid_name(new_name, ctx.mnemonic) || !is_free(ctx, new_name, declaration.text(), ns) {
         return diag;
     }
-    let mut edits: Vec<(Loc, String)> = vec![(ctx.loc(declaration.text_range()), new_name.into())];
-    edits.extend(
-        references(root, declaration.text(), ns)
-            .into_iter()
-            .map(|r| (ctx.loc(r), new_name.to_owned())),
-    );
-    diag.fix_edits(format!("Rename to '{new_name}'"), edits)
+    diag.rename_fix(
+        format!("Rename to '{new_name}'"),
+        ctx.loc(declaration.text_range()),
+        new_name,
+    )
 }
 
 /// Does `name` pass the name rules (an identifier without trailing `_`, without `__`, not
@@ -254,73 +240,6 @@ fn is_free(ctx: &Ctx<'_>, new_name: &str, old_name: &str, ns: &Namespace) -> boo
         | Namespace::Step(names)
         | Namespace::ChartTransition(names) => !taken(names),
     }
-}
-
-/// The references to a declared name inside `root` that a rename updates.
-fn references(root: &SyntaxNode, name: &str, ns: &Namespace) -> Vec<TextRange> {
-    let same =
-        |t: &SyntaxToken| t.kind() == SyntaxKind::IDENT && t.text().eq_ignore_ascii_case(name);
-    let mut out = Vec::new();
-    for node in root.descendants() {
-        let Some(parent) = node.parent() else {
-            continue;
-        };
-        let token = match (ns, node.kind()) {
-            (Namespace::GraphVariable(_), SyntaxKind::VAR_REF) => ident_of(&node),
-            (Namespace::GraphVariable(_), SyntaxKind::NAME_REF) if is_graph_operand(&node) => {
-                ident_of(&node)
-            }
-            (Namespace::ChartVariable(_), SyntaxKind::NAME_REF)
-                if parent.kind() == SyntaxKind::PATH && is_single_segment(&parent) =>
-            {
-                ident_of(&node)
-            }
-            (Namespace::Instance(_), SyntaxKind::NAME_REF)
-                if parent.kind() == SyntaxKind::MESSAGE_TARGET
-                    && parent.children().next().as_ref() == Some(&node) =>
-            {
-                ident_of(&node)
-            }
-            (Namespace::Step(_), SyntaxKind::NAME_REF)
-                if matches!(parent.kind(), SyntaxKind::JUMP | SyntaxKind::LOOP) =>
-            {
-                ident_of(&node)
-            }
-            _ => None,
-        };
-        if let Some(token) = token.filter(same) {
-            out.push(token.text_range());
-        }
-    }
-    out
-}
-
-/// Is a NAME_REF in a graph an operand (of a statement, a time value or a CALL actual)?
-fn is_graph_operand(node: &SyntaxNode) -> bool {
-    let Some(parent) = node.parent() else {
-        return false;
-    };
-    match parent.kind() {
-        SyntaxKind::STL_STMT | SyntaxKind::WAIT_ITEM | SyntaxKind::SUPERVISE_ITEM => true,
-        // The first NAME_REF of a parameter is the callee's formal, not an operand.
-        SyntaxKind::PARAM => parent.children().next().as_ref() != Some(node),
-        _ => false,
-    }
-}
-
-/// A chart path of exactly one name segment.
-fn is_single_segment(path: &SyntaxNode) -> bool {
-    path.children().count() == 1
-        && !path
-            .children_with_tokens()
-            .any(|e| e.kind() == SyntaxKind::DOT)
-}
-
-/// The identifier token directly inside a node.
-fn ident_of(node: &SyntaxNode) -> Option<SyntaxToken> {
-    node.children_with_tokens()
-        .filter_map(|e| e.into_token())
-        .find(|t| t.kind() == SyntaxKind::IDENT)
 }
 
 #[cfg(test)]
