@@ -740,8 +740,9 @@ pub(super) fn action_in_condition(
     ctx.push(diag);
 }
 
-/// The edits moving a statement to the end of its transition's body, under a `!:` label
-/// (the existing last `!:` block, or a new one).
+/// The edits moving a statement into its transition's last `!:` block, after that block's
+/// last statement; when the transition has no `!:` block, into a new one at the end of the
+/// body.
 fn move_to_action_block(
     ctx: &Ctx<'_>,
     stmt: &ast::StlStmt,
@@ -751,23 +752,26 @@ fn move_to_action_block(
         .ancestors()
         .find(|n| n.kind() == SyntaxKind::BODY)
         .and_then(ast::Body::cast)?;
-    let close = body.r_angle()?;
     let text = stmt.syntax().text().to_string();
-    let has_action_block = body
+    let action_block = body
         .blocks()
-        .last()
-        .and_then(|b| b.label())
-        .is_some_and(|l| l.name() == "!");
-    let inserted = if has_action_block {
-        format!("{text} ")
-    } else {
-        format!("!: {text} ")
+        .filter(|b| b.label().is_some_and(|l| l.name() == "!"))
+        .last();
+    let (at, inserted) = match action_block {
+        Some(block) => {
+            let end = match block.statements().last() {
+                Some(last) => last.syntax().text_range().end(),
+                None => block.label()?.syntax().text_range().end(),
+            };
+            (end, format!(" {text}"))
+        }
+        None => (body.r_angle()?.text_range().start(), format!("!: {text} ")),
     };
-    Some(vec![
-        (ctx.loc(stmt.syntax().text_range()), String::new()),
-        (
-            ctx.loc(TextRange::empty(close.text_range().start())),
-            inserted,
-        ),
-    ])
+    let removal = (ctx.loc(stmt.syntax().text_range()), String::new());
+    let insertion = (ctx.loc(TextRange::empty(at)), inserted);
+    Some(if at <= stmt.syntax().text_range().start() {
+        vec![insertion, removal]
+    } else {
+        vec![removal, insertion]
+    })
 }
