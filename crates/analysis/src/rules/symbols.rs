@@ -15,7 +15,7 @@ mod table;
 mod workspace;
 
 use higraph_syntax::{
-    SyntaxNode, TextRange, TextSize,
+    SyntaxNode,
     ast::{self, AstNode},
 };
 
@@ -105,20 +105,6 @@ pub(crate) fn resolve_block_ref<'a>(
 /// address of the active set (`T1`, `MW10`, `FC1`, not `M1`).
 pub(crate) fn well_formed_address(text: &str, set: Mnemonic) -> Option<address::Address> {
     crate::resolve::address_without_space(text, set).and_then(|r| r.address.ok())
-}
-
-/// The reference of a name token: the token without the quotes of a STRING (§2.3).
-pub(crate) fn reference_range(token: &higraph_syntax::SyntaxToken) -> TextRange {
-    let range = token.text_range();
-    let text = token.text();
-    if text.len() >= 2 && text.starts_with('"') && text.ends_with('"') {
-        TextRange::new(
-            range.start() + TextSize::from(1),
-            range.end() - TextSize::from(1),
-        )
-    } else {
-        range
-    }
 }
 
 /// How a symbol is named in a message: as declared, with the quotes of a quoted declaration.
@@ -257,6 +243,11 @@ pub(crate) fn check_case(
     declared: &str,
 ) {
     if used.eq_ignore_ascii_case(declared) {
-        crate::resolve::case_hint(ctx, reference_range(token), used, declared);
+        crate::resolve::case_hint(
+            ctx,
+            crate::resolve::string_inner_range(token),
+            used,
+            declared,
+        );
     }
 }

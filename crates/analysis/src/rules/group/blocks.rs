@@ -179,7 +179,12 @@ pub(crate) fn generated_blocks(db: &dyn salsa::Database, ws: Workspace) -> Vec<G
                     clause,
                     number: address.number,
                     group: name.clone(),
-                    name_loc: Loc::in_item(file, item, reference.syntax().text_range()),
+                    // A quoted name without its quotes (§2.3 reference).
+                    name_loc: Loc::in_item(
+                        file,
+                        item,
+                        crate::resolve::block_reference_range(&reference),
+                    ),
                     clause_loc: Loc::in_item(file, item, node.text_range()),
                 });
             }
