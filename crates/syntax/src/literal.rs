@@ -33,8 +33,8 @@
 //! * Ranges in HG0007 messages are spelled in the literal's notation without its prefix:
 //!   `(16#0 to 16#FF)`, `(0 to 999)`, `(10MS to 2H46M30S)`, `(1990-1-1 to 2168-12-31)`. Binary
 //!   constants are limited by their digit count, so their range reads `(1 to 32 digits)`;
-//!   strings read `(0 to 254 characters)` or, for a character above U+00FF,
-//!   `(U+0000 to U+00FF)`.
+//!   strings read `(0 to 254)` (a number of characters, the template's bare bounds) or, for a
+//!   character above U+00FF, `(U+0000 to U+00FF)`.
 
 use std::fmt;
 
@@ -1127,7 +1127,7 @@ fn check_quoted(text: &str) -> Result<Literal, LiteralError> {
         return Err(out_of_range(class, text, "U+0000", "U+00FF"));
     }
     if content.chars().count() > 254 {
-        return Err(out_of_range(class, text, "0", "254 characters"));
+        return Err(out_of_range(class, text, "0", "254"));
     }
     ok(class, LiteralValue::Str(content))
 }
@@ -1295,7 +1295,7 @@ fn accepts_string(n: u64, lit: &Literal) -> Acceptance {
     } else {
         Acceptance::OutOfRange {
             min: "0".to_owned(),
-            max: format!("{n} characters"),
+            max: n.to_string(),
         }
     }
 }
@@ -1844,7 +1844,7 @@ mod tests {
         oor(
             &format!("'{}'", "x".repeat(255)),
             "string",
-            "0 to 254 characters",
+            "0 to 254",
         );
         oor("'a€'", "string", "U+0000 to U+00FF");
         bad("'", "string", "missing closing quote");
@@ -1940,7 +1940,7 @@ mod tests {
         assert_eq!(acc("CHAR", "'AB'"), Mismatch);
         assert_eq!(acc("STRING[2]", "'AB'"), Accepted);
         assert_eq!(acc("string [ 2 ]", "'A'"), Accepted);
-        assert_eq!(acc("STRING[1]", "'AB'"), range("0", "1 characters"));
+        assert_eq!(acc("STRING[1]", "'AB'"), range("0", "1"));
         assert_eq!(acc("STRING", "''"), Accepted);
         assert_eq!(acc("STRING[x]", "'A'"), Mismatch);
         assert_eq!(acc("STRING[2]", "5"), Mismatch);

@@ -265,12 +265,6 @@ fn check_initial_value(ctx: &mut Ctx<'_>, decl: &ast::VarDecl, ty: Type) {
             Acceptance::Accepted => return,
             Acceptance::Mismatch => format!("initial value {text} does not fit type {ty}"),
             Acceptance::OutOfRange { min, max } => {
-                // The template's range is the bare bounds: `(0 to 3)` for STRING[3]
-                // (`literal::accepts` words a string's maximum as `3 characters`).
-                let max = match ty {
-                    Type::String(n) => n.to_string(),
-                    _ => max,
-                };
                 let diag = ctx.diag(
                     "HG1206",
                     range,
