@@ -906,12 +906,14 @@ impl Formatter<'_> {
     /// The separator before `piece` (of `token`) after `prev` from another node: the rules of
     /// [`boundary_sep`], except that an operand touching a `+` or `)` opcode keeps touching it:
     /// `+AR1` and `)MCR` are STEP 7 operations of their own (HG4003), while `+ AR1` adds a
-    /// constant and `) MCR` closes a bracket.
+    /// constant and `) MCR` closes a bracket; and a number touching a `-` keeps touching it.
     fn boundary(&self, prev: Option<&Piece>, piece: &Piece, token: &SyntaxToken) -> Sep {
         let after_punctuation =
             prev.is_some_and(|p| p.parent == OPCODE && matches!(p.kind, PLUS | R_PAREN));
+        // A negative number (`state -1`, `prio -1`, `-1->0`) stays one: `- 1` is no number.
+        let negative = token.kind() == NUMBER && prev.is_some_and(|p| p.kind == MINUS);
         let touching = piece.token.is_some_and(|i| self.tokens.touching(i));
-        if after_punctuation && touching && token.kind() != SEMI {
+        if (after_punctuation || negative) && touching && token.kind() != SEMI {
             Sep::Join
         } else {
             boundary_sep(prev, piece, Some(token))

@@ -70,6 +70,85 @@ fn token(parent: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
         .find(|t| t.kind() == kind)
 }
 
+/// One terminal of the grammar as written. Most terminals are one token; a negative `INT`
+/// (language.md §1.5) is two: a `-` (MINUS) and a NUMBER token written together, both children
+/// of the node that holds the integer (`STATE`, `ENDPOINT`, `PRIO_CLAUSE`, `OPTION`), so the
+/// tokens stay as lexed. [`Terminal::text`] and [`Terminal::text_range`] cover the whole
+/// terminal: `-1`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Terminal {
+    /// The `-` of a negative number.
+    minus: Option<SyntaxToken>,
+    /// The NUMBER token of a number (after its `-`), or the one token of any other terminal.
+    token: SyntaxToken,
+    /// The text of a negative number: `-` and the number.
+    negative: Option<String>,
+}
+
+impl Terminal {
+    fn single(token: SyntaxToken) -> Terminal {
+        Terminal {
+            minus: None,
+            token,
+            negative: None,
+        }
+    }
+
+    /// The number `parent` holds directly: its NUMBER token, with the `-` the parser put right
+    /// before it (only one written together with the number).
+    fn number_in(parent: &SyntaxNode) -> Option<Terminal> {
+        let number = token(parent, NUMBER)?;
+        let minus = number
+            .prev_sibling_or_token()
+            .and_then(|e| e.into_token())
+            .filter(|t| t.kind() == MINUS);
+        let negative = minus
+            .as_ref()
+            .map(|m| format!("{}{}", m.text(), number.text()));
+        Some(Terminal {
+            minus,
+            token: number,
+            negative,
+        })
+    }
+
+    /// The terminal as written: `4`, `-1`, `any`.
+    pub fn text(&self) -> &str {
+        self.negative.as_deref().unwrap_or(self.token.text())
+    }
+
+    /// The whole terminal, a negative number's `-` included.
+    pub fn text_range(&self) -> rowan::TextRange {
+        let end = self.token.text_range();
+        match &self.minus {
+            Some(minus) => rowan::TextRange::new(minus.text_range().start(), end.end()),
+            None => end,
+        }
+    }
+
+    /// The kind of [`Terminal::token`]: `NUMBER` for a number (negative or not), else the
+    /// token's kind.
+    pub fn kind(&self) -> SyntaxKind {
+        self.token.kind()
+    }
+
+    /// Is it a number written with a `-`?
+    pub fn is_negative(&self) -> bool {
+        self.minus.is_some()
+    }
+
+    /// The terminal's main token: a number's NUMBER token (without the `-`), or the one token.
+    pub fn token(&self) -> &SyntaxToken {
+        &self.token
+    }
+}
+
+impl std::fmt::Display for Terminal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.text())
+    }
+}
+
 /// The first significant (non-trivia) token directly inside `parent`.
 fn first_token(parent: &SyntaxNode) -> Option<SyntaxToken> {
     parent
@@ -713,9 +792,9 @@ impl Permanent {
 }
 
 impl State {
-    /// The state number token.
-    pub fn number(&self) -> Option<SyntaxToken> {
-        token(&self.syntax, NUMBER)
+    /// The state number as written (`4`, or `-1`, which the analysis reports).
+    pub fn number(&self) -> Option<Terminal> {
+        Terminal::number_in(&self.syntax)
     }
     pub fn comment(&self) -> Option<CommentString> {
         child(&self.syntax)
@@ -764,8 +843,10 @@ pub enum EndpointKind {
 }
 
 impl Endpoint {
-    pub fn token(&self) -> Option<SyntaxToken> {
-        first_token(&self.syntax)
+    /// The endpoint as written: a state number (`4`, `-1`), `any` or `return`.
+    pub fn token(&self) -> Option<Terminal> {
+        Terminal::number_in(&self.syntax)
+            .or_else(|| first_token(&self.syntax).map(Terminal::single))
     }
     pub fn kind(&self) -> Option<EndpointKind> {
         Some(match self.token()?.kind() {
@@ -777,8 +858,9 @@ impl Endpoint {
 }
 
 impl PrioClause {
-    pub fn value(&self) -> Option<SyntaxToken> {
-        token(&self.syntax, NUMBER)
+    /// The priority as written (`2`, or `-1`, which the analysis reports).
+    pub fn value(&self) -> Option<Terminal> {
+        Terminal::number_in(&self.syntax)
     }
 }
 
@@ -947,8 +1029,9 @@ impl GroupOption {
     pub fn name(&self) -> Option<Name> {
         child(&self.syntax)
     }
-    pub fn value(&self) -> Option<SyntaxToken> {
-        token(&self.syntax, NUMBER)
+    /// The value as written (`100`, or `-5`, which the analysis reports).
+    pub fn value(&self) -> Option<Terminal> {
+        Terminal::number_in(&self.syntax)
     }
 }
 
@@ -1299,6 +1382,71 @@ mod tests {
             trans.prio().and_then(|p| p.value()).map(|t| t.to_string()),
             Some("2".into())
         );
+    }
+
+    #[test]
+    fn a_negative_int_is_one_terminal() {
+        let parse = crate::parse(
+            "graph G < state -1 < > trans -1->-02 prio -3 < > trans any->4 prio 5 < > > \
+             chart C < sequencer S prio -6 < step A < > > > group Gr < option reserve -7; >",
+        );
+        assert!(parse.errors().is_empty(), "{:?}", parse.errors());
+        let items: Vec<_> = parse.tree().items().collect();
+        let Item::Graph(graph) = &items[0] else {
+            panic!("no graph")
+        };
+        let text = |t: Option<Terminal>| t.map(|t| (t.text().to_owned(), t.is_negative()));
+        let state = graph.states().next().expect("state");
+        let number = state.number().expect("number");
+        assert_eq!((number.text(), number.kind()), ("-1", NUMBER));
+        // The range covers the `-` (`graph G < state ` is 16 bytes).
+        assert_eq!(
+            number.text_range(),
+            rowan::TextRange::new(16.into(), 18.into())
+        );
+        let transitions: Vec<_> = graph.transitions().collect();
+        let (first, second) = (&transitions[0], &transitions[1]);
+        assert_eq!(
+            text(first.source().and_then(|e| e.token())),
+            Some(("-1".into(), true))
+        );
+        assert_eq!(
+            text(first.target().and_then(|e| e.token())),
+            Some(("-02".into(), true))
+        );
+        assert_eq!(
+            first.target().and_then(|e| e.kind()),
+            Some(EndpointKind::State)
+        );
+        assert_eq!(
+            text(first.prio().and_then(|p| p.value())),
+            Some(("-3".into(), true))
+        );
+        assert_eq!(
+            text(second.source().and_then(|e| e.token())),
+            Some(("any".into(), false))
+        );
+        assert_eq!(
+            text(second.target().and_then(|e| e.token())),
+            Some(("4".into(), false))
+        );
+        assert_eq!(
+            text(second.prio().and_then(|p| p.value())),
+            Some(("5".into(), false))
+        );
+        let Item::Chart(chart) = &items[1] else {
+            panic!("no chart")
+        };
+        let seq = chart.sequencers().next().expect("sequencer");
+        assert_eq!(
+            text(seq.prio().and_then(|p| p.value())),
+            Some(("-6".into(), true))
+        );
+        let Item::Group(group) = &items[2] else {
+            panic!("no group")
+        };
+        let option = group.options().next().expect("option");
+        assert_eq!(text(option.value()), Some(("-7".into(), true)));
     }
 
     #[test]

@@ -675,16 +675,20 @@ impl<'t> Parser<'t> {
         };
         let next = self.nth(1);
         match (scope, token.keyword) {
-            (Scope::Graph, STATE_KW) => next == NUMBER,
+            (Scope::Graph, STATE_KW) => self.nth_starts_number(1),
             (Scope::Graph, TRANS_KW) => {
-                next == NUMBER || self.nth_is_kw(1, ANY_KW) || self.nth_is_kw(1, RETURN_KW)
+                self.nth_starts_number(1)
+                    || self.nth_is_kw(1, ANY_KW)
+                    || self.nth_is_kw(1, RETURN_KW)
             }
             (Scope::Graph, ACTIVATE_KW) => true,
             (Scope::Graph, PERMANENT_KW | IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => next == L_ANGLE,
             (Scope::Group, INSTANCE_KW) => {
                 next == IDENT && self.nth(2) == COLON && self.nth(3) != EQ
             }
-            (Scope::Group, OPTION_KW) => next == IDENT && matches!(self.nth(2), SEMI | NUMBER),
+            (Scope::Group, OPTION_KW) => {
+                next == IDENT && (self.nth(2) == SEMI || self.nth_starts_number(2))
+            }
             (Scope::Sequencer, STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW) => {
                 matches!(next, IDENT | NUMBER)
             }
@@ -741,6 +745,34 @@ impl<'t> Parser<'t> {
     /// A `:` that is not the start of `:=`.
     pub(crate) fn at_colon(&self) -> bool {
         self.at(COLON) && !self.at_assign()
+    }
+
+    /// Number of tokens of a number that may be negative at the current position: 1 for a
+    /// number, 2 for `-` and a number written together (`-1`; language.md §1.1), 0 if none
+    /// starts here. With `integer`, only whole numbers count: an `INT` of the grammar
+    /// (language.md §1.5). Both tokens stay as lexed, children of the node that holds the
+    /// number (`ast::Terminal`).
+    pub(crate) fn signed_number_len(&self, integer: bool) -> usize {
+        let is_number = |n: usize| {
+            if integer {
+                self.nth_has(n, stl::word::INTEGER)
+            } else {
+                self.nth(n) == NUMBER
+            }
+        };
+        if is_number(0) {
+            1
+        } else if self.at(MINUS) && self.nth_joined(1) && is_number(1) {
+            2
+        } else {
+            0
+        }
+    }
+
+    /// Does a number, or `-` and a number written together, start at the `n`th token?
+    fn nth_starts_number(&self, n: usize) -> bool {
+        self.nth(n) == NUMBER
+            || (self.nth(n) == MINUS && self.nth(n + 1) == NUMBER && self.nth_joined(n + 1))
     }
 
     /// `->` written as two adjacent tokens.

@@ -49,6 +49,8 @@ const INSERTS: &[&str] = &[
     "//",
     "(*",
     "state 9 < >",
+    "state -1 < >",
+    "prio -2",
     "trans 0->1 < >",
     "U E 1.0;",
     "> <",

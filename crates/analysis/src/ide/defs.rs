@@ -1238,7 +1238,8 @@ pub(crate) fn declaration_node(
         }
         Definition::State { graph, number } => {
             let state = state_node(db, *graph, *number)?;
-            let token = state.number()?;
+            // A state found by its number is not negative: its number is one token.
+            let token = state.number()?.token().clone();
             return Some((*graph, state.syntax().clone(), token));
         }
         Definition::Sequencer { chart, name } => {

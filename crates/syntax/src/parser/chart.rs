@@ -84,8 +84,12 @@ fn sequencer(p: &mut Parser<'_>) {
     if p.at_kw(PRIO_KW) {
         p.start(PRIO_CLAUSE);
         p.bump_keyword();
-        if p.at(NUMBER) {
-            p.bump();
+        // Any number, also negative (`-3`): HG7207 reports it.
+        let n = p.signed_number_len(false);
+        if n > 0 {
+            for _ in 0..n {
+                p.bump();
+            }
         } else {
             p.finish_node();
             p.error_expected("a priority");

@@ -67,23 +67,28 @@ fn activate(p: &mut Parser<'_>) {
     p.finish_node();
 }
 
-/// Is the current token an integer (a state number or priority)?
-fn at_integer(p: &Parser<'_>) -> bool {
-    p.at(NUMBER) && p.nth_text(0).bytes().all(|b| b.is_ascii_digit())
+/// Number of tokens of an `INT` (a state number, endpoint or priority) at the current
+/// position: `4` or `-4` (tolerated here, reported by the analysis: HG2102, HG2303); 0 if none.
+fn int_len(p: &Parser<'_>) -> usize {
+    p.signed_number_len(true)
 }
 
 /// `state N ["name"] {fault|message} < items >`
 fn state(p: &mut Parser<'_>) {
     p.start(STATE);
     p.bump_keyword();
-    let number = at_integer(p).then(|| p.nth_text(0));
+    let n = int_len(p);
+    // The number as written: `-` and the digits, or the digits.
+    let number = (n > 0).then(|| (p.nth_text(0), if n == 2 { p.nth_text(1) } else { "" }));
     let construct = lazy(|f| match number {
-        Some(number) => write!(f, "state {number}"),
+        Some((first, second)) => write!(f, "state {first}{second}"),
         None => f.write_str("state"),
     });
     let mut header_ok = true;
-    if number.is_some() {
-        p.bump();
+    if n > 0 {
+        for _ in 0..n {
+            p.bump();
+        }
         loop {
             if p.at(STRING) {
                 p.bump_node(COMMENT_STRING, 1);
@@ -109,7 +114,7 @@ fn state(p: &mut Parser<'_>) {
 fn trans(p: &mut Parser<'_>) {
     p.start(TRANS);
     p.bump_keyword();
-    let source = p.nth_text(0);
+    let source = endpoint_text(p);
     if !endpoint(p) {
         p.error_expected("a state number, 'any' or 'return'");
         if p.recover_header() {
@@ -127,7 +132,7 @@ fn trans(p: &mut Parser<'_>) {
         return;
     }
     p.bump_node(ARROW, 2);
-    let target = p.nth_text(0);
+    let target = endpoint_text(p);
     if !endpoint(p) {
         p.error_expected("a state number, 'any' or 'return'");
         if p.recover_header() {
@@ -136,13 +141,22 @@ fn trans(p: &mut Parser<'_>) {
         p.finish_node();
         return;
     }
-    let construct = lazy(|f| write!(f, "transition {source}->{target}"));
+    let construct = lazy(|f| {
+        write!(
+            f,
+            "transition {}{}->{}{}",
+            source.0, source.1, target.0, target.1
+        )
+    });
     loop {
         if p.at_kw(PRIO_KW) {
             p.start(PRIO_CLAUSE);
             p.bump_keyword();
-            if at_integer(p) {
-                p.bump();
+            let n = int_len(p);
+            if n > 0 {
+                for _ in 0..n {
+                    p.bump();
+                }
                 p.finish_node();
             } else {
                 p.finish_node();
@@ -170,10 +184,20 @@ fn trans(p: &mut Parser<'_>) {
     p.finish_node();
 }
 
-/// `4`, `any` or `return`.
+/// The endpoint at the current position as written, for messages: `-1` is two tokens.
+fn endpoint_text<'t>(p: &Parser<'t>) -> (&'t str, &'t str) {
+    if int_len(p) == 2 {
+        (p.nth_text(0), p.nth_text(1))
+    } else {
+        (p.nth_text(0), "")
+    }
+}
+
+/// `4`, `-4` (tolerated; it names no state), `any` or `return`.
 fn endpoint(p: &mut Parser<'_>) -> bool {
-    if at_integer(p) {
-        p.bump_node(ENDPOINT, 1);
+    let n = int_len(p);
+    if n > 0 {
+        p.bump_node(ENDPOINT, n);
     } else if p.at_kw(ANY_KW) || p.at_kw(RETURN_KW) {
         p.start(ENDPOINT);
         p.bump_keyword();

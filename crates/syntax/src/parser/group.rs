@@ -57,8 +57,12 @@ fn option(p: &mut Parser<'_>) {
     p.start(OPTION);
     p.bump_keyword();
     if p.name() {
-        if p.at(NUMBER) && !p.nth_on_new_line(0) {
-            p.bump();
+        // Any number, also negative (`-5`): HG8008 reports it.
+        let n = p.signed_number_len(false);
+        if n > 0 && !p.nth_on_new_line(0) {
+            for _ in 0..n {
+                p.bump();
+            }
         }
         p.expect_semi(&"the option", |p| p.at_member_start(Scope::Group));
     } else {
