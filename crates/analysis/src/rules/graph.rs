@@ -30,7 +30,7 @@ use super::edit;
 // Re-exported for the formatter; `rules/mod.rs` has to make `graph` visible to it.
 #[allow(unused_imports)]
 pub use self::model::effective_priorities;
-pub(crate) use self::model::{GraphModel, number_key};
+pub(crate) use self::{facts::number_key, model::GraphModel};
 use super::Ctx;
 
 /// The declaration rules of a graph (its variable sections and `activate`), on its tree.
@@ -207,5 +207,33 @@ mod tests {
                 None
             ]
         );
+    }
+
+    #[test]
+    fn a_negative_priority_has_no_place_in_the_order() {
+        // Range of state 0: -1 (no effective priority), implicit, explicit 0, implicit.
+        let text = "graph G < state 0 < > state 1 < > \
+                    trans 0->1 prio -1 < > trans 0->1 < > trans 0->1 prio 0 < > \
+                    trans 0->1 < > trans 1->0 prio -0 < > trans 1->0 < > >";
+        assert_eq!(
+            priorities(text),
+            vec![None, Some(1), Some(0), Some(2), Some(0), Some(1)]
+        );
+    }
+
+    #[test]
+    fn number_keys_are_the_integers() {
+        for (text, key) in [
+            ("7", "7"),
+            ("007", "7"),
+            ("0", "0"),
+            ("000", "0"),
+            ("-1", "-1"),
+            ("-001", "-1"),
+            ("-0", "0"),
+            ("-00", "0"),
+        ] {
+            assert_eq!(number_key(text), key, "{text}");
+        }
     }
 }

@@ -31,6 +31,8 @@ pub enum MemberFacts {
 pub struct StateFacts {
     /// The number as written, if it parsed (the ranges are empty otherwise).
     pub number: Option<String>,
+    /// The state the number names ([`number_key`]); empty if there is no number.
+    pub key: String,
     /// The display name (`state 1 "Oben"`), for completion.
     pub display_name: Option<String>,
     pub number_range: TextRange,
@@ -67,8 +69,11 @@ pub struct BodyItemFact {
 /// What an endpoint names.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum EndFact {
-    /// A state number as written.
-    State(String),
+    /// A state number as written, and the state it names ([`number_key`]).
+    State {
+        text: String,
+        key: String,
+    },
     Any,
     Return,
 }
@@ -83,7 +88,7 @@ impl EndpointFact {
     /// As shown in labels: the number as written, `any` or `return`.
     pub fn text(&self) -> &str {
         match &self.end {
-            EndFact::State(text) => text,
+            EndFact::State { text, .. } => text,
             EndFact::Any => "any",
             EndFact::Return => "return",
         }
@@ -135,6 +140,22 @@ impl MemberFacts {
     }
 }
 
+/// The state a number names: the integer it denotes, without leading zeros (`007` and `7` name
+/// the same state, C3). A negative number (an `INT` may be negative, language.md §1.5) keeps
+/// its `-` and names no valid state (HG2102); `-0` is `0`.
+pub(crate) fn number_key(text: &str) -> String {
+    let (negative, digits) = match text.strip_prefix('-') {
+        Some(digits) => (true, digits),
+        None => (false, text),
+    };
+    let digits = digits.trim_start_matches('0');
+    match (digits.is_empty(), negative) {
+        (true, _) => "0".to_owned(),
+        (false, true) => format!("-{digits}"),
+        (false, false) => digits.to_owned(),
+    }
+}
+
 fn state(node: &ast::State) -> StateFacts {
     let number = node.number().zip(node.syntax().first_token());
     let items = node.body().map(|b| body_items(&b)).unwrap_or_default();
@@ -142,6 +163,10 @@ fn state(node: &ast::State) -> StateFacts {
     let empty = TextRange::default();
     StateFacts {
         number: number.as_ref().map(|(n, _)| n.text().to_owned()),
+        key: number
+            .as_ref()
+            .map(|(n, _)| number_key(n.text()))
+            .unwrap_or_default(),
         display_name: node.comment().map(|c| c.value()),
         number_range: number.as_ref().map_or(empty, |(n, _)| n.text_range()),
         header: number.as_ref().map_or(empty, |(n, keyword)| {
@@ -185,7 +210,10 @@ fn endpoint(node: &ast::Endpoint) -> Option<EndpointFact> {
     let end = match node.kind()? {
         ast::EndpointKind::Any => EndFact::Any,
         ast::EndpointKind::Return => EndFact::Return,
-        ast::EndpointKind::State => EndFact::State(token.text().to_owned()),
+        ast::EndpointKind::State => EndFact::State {
+            text: token.text().to_owned(),
+            key: number_key(token.text()),
+        },
     };
     Some(EndpointFact {
         end,

@@ -128,7 +128,7 @@ pub(crate) struct EndpointEntry<'a> {
 fn endpoint(offset: TextSize, fact: &EndpointFact) -> EndpointEntry<'_> {
     EndpointEntry {
         end: match &fact.end {
-            EndFact::State(text) => End::State(number_key(text)),
+            EndFact::State { key, .. } => End::State(key),
             EndFact::Any => End::Any,
             EndFact::Return => End::Return,
         },
@@ -155,8 +155,14 @@ pub(crate) struct TransEntry<'a> {
     pub source_state: Option<usize>,
     /// The state the target names, if it exists.
     pub target_state: Option<usize>,
-    /// The explicit priority (saturating at `u64::MAX`).
+    /// The explicit priority (saturating at `u64::MAX`); `None` for a negative one.
     pub explicit: Option<u64>,
+    /// A negative explicit priority (`prio -1`; an `INT` may be negative, language.md §1.5)
+    /// by its magnitude (saturating at `u64::MAX`). It is outside 1..65535 (HG2303) and has
+    /// no place in the order of its range: the transition gets no effective priority, as
+    /// with a `prio` without a number. The implicit priorities of the range are what they
+    /// would be if it counted as a number below 1.
+    pub negative: Option<u64>,
     pub range: Option<PrioRange>,
     /// The explicit or implicit priority; `None` outside every range.
     pub priority: Option<u64>,
@@ -175,6 +181,16 @@ impl<'a> TransEntry<'a> {
     /// The `prio` clause's range, if there is one.
     pub fn prio_range(&self) -> Option<TextRange> {
         self.facts.prio.as_ref().map(|p| at(self.offset, p.range))
+    }
+
+    /// The explicit priority as a signed number (for comparing explicit priorities, HG2301,
+    /// HG2302, and the range check, HG2303).
+    pub fn explicit_value(&self) -> Option<i128> {
+        match (self.explicit, self.negative) {
+            (Some(p), _) => Some(i128::from(p)),
+            (None, Some(m)) => Some(-i128::from(m)),
+            (None, None) => None,
+        }
     }
 
     /// The number of the `prio` clause as written (empty if there is none).
@@ -307,7 +323,7 @@ impl<'a> GraphModel<'a> {
                     let Some(number) = &state.number else {
                         continue;
                     };
-                    let key = number_key(number);
+                    let key = state.key.as_str();
                     let index = model.states.len();
                     let first = model.by_key.get(key).copied();
                     if first.is_none() {
@@ -317,7 +333,7 @@ impl<'a> GraphModel<'a> {
                         facts: state,
                         offset,
                         number,
-                        value: number.parse().ok(),
+                        value: key.parse().ok(),
                         first,
                     });
                 }
@@ -351,11 +367,12 @@ impl<'a> GraphModel<'a> {
         let target = facts.target.as_ref().map(|e| endpoint(offset, e));
         let source_state = self.existing(source.map(|e| e.end));
         let target_state = self.existing(target.map(|e| e.end));
-        let explicit = facts
-            .prio
-            .as_ref()
-            .and_then(|p| p.value.as_deref())
-            .map(|v| v.parse::<u64>().unwrap_or(u64::MAX));
+        let written = facts.prio.as_ref().and_then(|p| p.value.as_deref());
+        let (explicit, negative) = match written.map(parse_priority) {
+            Some((false, p)) => (Some(p), None),
+            Some((true, m)) => (None, Some(m)),
+            None => (None, None),
+        };
         // A state's range holds its normal and return transitions; `s->any` is in none (HG2104).
         let range = match (&source, &target, facts.header) {
             (Some(s), Some(t), Some(_)) => match (s.end, t.end) {
@@ -373,6 +390,7 @@ impl<'a> GraphModel<'a> {
             source_state,
             target_state,
             explicit,
+            negative,
             range,
             priority: None,
             startup: facts.queries_init_sd && !declares_init_sd,
@@ -521,6 +539,17 @@ pub fn effective_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
     model.transitions.iter().map(|t| t.priority).collect()
 }
 
+/// A priority as written: whether it is negative (`-0` is not), and its magnitude (too large
+/// values become `u64::MAX`).
+fn parse_priority(text: &str) -> (bool, u64) {
+    let (negative, digits) = match text.strip_prefix('-') {
+        Some(digits) => (true, digits),
+        None => (false, text),
+    };
+    let magnitude = digits.parse::<u64>().unwrap_or(u64::MAX);
+    (negative && magnitude > 0, magnitude)
+}
+
 /// An endpoint as transition labels show it (§2.3): a state number without leading zeros,
 /// `any`, `return`, or `?` if it did not parse.
 fn label_key<'a>(end: Option<&EndpointEntry<'a>>) -> &'a str {
@@ -530,10 +559,4 @@ fn label_key<'a>(end: Option<&EndpointEntry<'a>>) -> &'a str {
         Some(End::Return) => "return",
         None => "?",
     }
-}
-
-/// A number without leading zeros.
-pub(crate) fn number_key(text: &str) -> &str {
-    let trimmed = text.trim_start_matches('0');
-    if trimmed.is_empty() { "0" } else { trimmed }
 }

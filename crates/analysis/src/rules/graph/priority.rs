@@ -30,11 +30,11 @@ fn check_duplicates(
     range: PrioRange,
     members: &[usize],
 ) {
-    let mut first: HashMap<u64, usize> = HashMap::default();
+    let mut first: HashMap<i128, usize> = HashMap::default();
     let mut free = None;
     for &i in members {
         let t = &model.transitions[i];
-        let (Some(p), Some(at)) = (t.explicit, t.prio_range()) else {
+        let (Some(p), Some(at)) = (t.explicit_value(), t.prio_range()) else {
             continue;
         };
         let Some(&earlier) = first.get(&p) else {
@@ -83,9 +83,9 @@ fn check_duplicates(
 /// above 65535 (on the header).
 fn check_range(ctx: &mut Ctx<'_>, t: &TransEntry<'_>) {
     let message = |p: &str| format!("priority {p} is outside 1..{MAX_PRIORITY} (1 is the highest)");
-    match (t.explicit, t.prio_range()) {
+    match (t.explicit_value(), t.prio_range()) {
         (Some(p), Some(clause)) => {
-            if !(1..=MAX_PRIORITY).contains(&p) {
+            if !(1..=i128::from(MAX_PRIORITY)).contains(&p) {
                 let diag = ctx.diag("HG2303", clause, message(t.prio_text()));
                 ctx.push(diag);
             }
