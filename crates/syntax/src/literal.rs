@@ -1841,11 +1841,7 @@ mod tests {
             class(&format!("'{}'", "''".repeat(254))),
             LiteralClass::String
         );
-        oor(
-            &format!("'{}'", "x".repeat(255)),
-            "string",
-            "0 to 254",
-        );
+        oor(&format!("'{}'", "x".repeat(255)), "string", "0 to 254");
         oor("'a€'", "string", "U+0000 to U+00FF");
         bad("'", "string", "missing closing quote");
         bad("'abc", "string", "missing closing quote");
