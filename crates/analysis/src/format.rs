@@ -51,14 +51,14 @@
 //! clauses and the priorities written out); otherwise it returns [`FormatError::Internal`]
 //! and the caller keeps the input. So formatting never loses a token or changes the meaning.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::fmt;
 
 use higraph_syntax::{
     SyntaxElement, SyntaxError, SyntaxKind,
     SyntaxKind::*,
     SyntaxNode, SyntaxToken, TextSize,
-    ast::{self, AstNode, EndpointKind},
+    ast::{self, AstNode},
     parse,
     rowan::NodeOrToken,
 };
@@ -165,114 +165,19 @@ fn verify(
 // ------------------------------------------------------------------------------------------
 // Implicit priorities (diagnostics.md §2.6)
 
-/// The priority range a graph transition belongs to.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
-enum PrioRange {
-    /// All any-transitions of the graph.
-    Any,
-    /// The normal and return transitions leaving one state (its normalised number).
-    State(String),
-}
-
 /// The computed priority of every transition of `graph` that has no `prio`, in the order of
 /// `graph.transitions()`: `Some(p)` for a transition without `prio` that belongs to a
-/// priority range, `None` for a transition with an explicit `prio`, for one that belongs to no
-/// range (its source is `return` or a state that does not exist) and when the number would not
-/// fit in a `u64`.
+/// priority range, `None` for a transition with an explicit `prio` and for one that belongs
+/// to no range (its source is `return` or a state that does not exist).
 ///
-/// The rule (diagnostics.md §2.6): walk the range in text order; a transition without `prio`
-/// gets the smallest integer greater than the priority of every earlier transition of the
-/// range (explicit or implicit) that no explicit `prio` of the range uses; with no earlier
-/// transition, the smallest integer ≥ 1 that no explicit `prio` uses.
+/// The priorities are the graph rules' own (`rules::graph::effective_priorities`, §2.6), so
+/// what the formatter writes out is what the rules computed.
 pub fn implicit_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
-    let states: HashSet<String> = graph
-        .states()
-        .filter_map(|state| state.number())
-        .map(|number| normalise_number(number.text()))
-        .collect();
-    let transitions: Vec<ast::Trans> = graph.transitions().collect();
-    let range_of = |trans: &ast::Trans| -> Option<PrioRange> {
-        let source = trans.source()?;
-        match source.kind()? {
-            EndpointKind::Any => Some(PrioRange::Any),
-            EndpointKind::Return => None,
-            EndpointKind::State => {
-                let number = normalise_number(source.token()?.text());
-                states.contains(&number).then_some(PrioRange::State(number))
-            }
-        }
-    };
-    // `None`: no `prio` clause; `Some(None)`: a clause without a usable number.
-    let explicit = |trans: &ast::Trans| -> Option<Option<u64>> {
-        let clause = trans.prio()?;
-        Some(clause.value().map(|value| parse_saturating(value.text())))
-    };
-
-    let mut used: HashMap<PrioRange, HashSet<u64>> = HashMap::new();
-    for trans in &transitions {
-        if let (Some(range), Some(Some(value))) = (range_of(trans), explicit(trans)) {
-            used.entry(range).or_default().insert(value);
-        }
-    }
-    let mut highest: HashMap<PrioRange, u64> = HashMap::new();
-    let mut result = Vec::with_capacity(transitions.len());
-    for trans in &transitions {
-        let Some(range) = range_of(trans) else {
-            result.push(None);
-            continue;
-        };
-        match explicit(trans) {
-            Some(value) => {
-                if let Some(value) = value {
-                    let entry = highest.entry(range).or_insert(value);
-                    *entry = (*entry).max(value);
-                }
-                result.push(None);
-            }
-            None => {
-                let taken = used.get(&range);
-                let mut candidate = match highest.get(&range) {
-                    Some(&max) => max.checked_add(1),
-                    None => Some(1),
-                };
-                while let Some(value) = candidate {
-                    if taken.is_some_and(|taken| taken.contains(&value)) {
-                        candidate = value.checked_add(1);
-                    } else {
-                        break;
-                    }
-                }
-                if let Some(value) = candidate {
-                    highest.insert(range, value);
-                }
-                result.push(candidate);
-            }
-        }
-    }
-    result
-}
-
-/// A digit string without leading zeros (`007` and `7` name the same state).
-fn normalise_number(text: &str) -> String {
-    let trimmed = text.trim_start_matches('0');
-    if trimmed.is_empty() && !text.is_empty() {
-        "0".to_owned()
-    } else {
-        trimmed.to_owned()
-    }
-}
-
-/// A digit string as a number; too large values become `u64::MAX`.
-fn parse_saturating(text: &str) -> u64 {
-    text.bytes()
-        .try_fold(0u64, |acc, b| {
-            if b.is_ascii_digit() {
-                Some(acc.saturating_mul(10).saturating_add(u64::from(b - b'0')))
-            } else {
-                None
-            }
-        })
-        .unwrap_or(u64::MAX)
+    graph
+        .transitions()
+        .zip(crate::rules::graph::effective_priorities(graph))
+        .map(|(trans, priority)| priority.filter(|_| trans.prio().is_none()))
+        .collect()
 }
 
 /// The highest priority the formatter writes out: larger implicit priorities are an error

@@ -527,7 +527,6 @@ impl<'a> GraphModel<'a> {
 /// priorities as written, implicit ones computed per range; `None` for transitions that belong
 /// to no priority range (source `return`, a state that does not exist, or a broken header).
 // Public for the formatter, which writes implicit priorities out (`tooling.md` §2a).
-#[allow(dead_code)]
 pub fn effective_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
     let facts: Vec<MemberFacts> = graph
         .body()
