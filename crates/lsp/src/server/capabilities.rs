@@ -22,6 +22,9 @@ pub(crate) struct ClientSupport {
     pub snippets: bool,
     /// The client folds whole lines only.
     pub line_folding_only: bool,
+    /// The client shows markdown in hovers: it lists no hover content formats (most clients
+    /// do not, and all show markdown) or lists markdown among them.
+    pub hover_markdown: bool,
 }
 
 impl Default for ClientSupport {
@@ -33,6 +36,7 @@ impl Default for ClientSupport {
             watched_files_registration: false,
             snippets: false,
             line_folding_only: false,
+            hover_markdown: true,
         }
     }
 }
@@ -72,6 +76,12 @@ impl ClientSupport {
                 .and_then(|text| text.folding_range.as_ref())
                 .and_then(|folding| folding.line_folding_only)
                 .unwrap_or(false),
+            hover_markdown: text_document
+                .and_then(|text| text.hover.as_ref())
+                .and_then(|hover| hover.content_format.as_ref())
+                .is_none_or(|formats| {
+                    formats.is_empty() || formats.contains(&lsp::MarkupKind::Markdown)
+                }),
         }
     }
 }
@@ -168,5 +178,29 @@ mod tests {
             server_capabilities(&support).position_encoding,
             Some(lsp::PositionEncodingKind::UTF8)
         );
+    }
+
+    #[test]
+    fn hovers_are_markdown_unless_the_client_lists_only_other_formats() {
+        let with_formats = |formats: Option<Vec<lsp::MarkupKind>>| {
+            let capabilities = lsp::ClientCapabilities {
+                text_document: Some(lsp::TextDocumentClientCapabilities {
+                    hover: Some(lsp::HoverClientCapabilities {
+                        content_format: formats,
+                        ..Default::default()
+                    }),
+                    ..Default::default()
+                }),
+                ..Default::default()
+            };
+            ClientSupport::new(&capabilities).hover_markdown
+        };
+        assert!(ClientSupport::new(&lsp::ClientCapabilities::default()).hover_markdown);
+        assert!(with_formats(None));
+        assert!(with_formats(Some(vec![
+            lsp::MarkupKind::PlainText,
+            lsp::MarkupKind::Markdown
+        ])));
+        assert!(!with_formats(Some(vec![lsp::MarkupKind::PlainText])));
     }
 }

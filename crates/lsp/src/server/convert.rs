@@ -124,15 +124,39 @@ pub(crate) fn text_edit(
     lsp::TextEdit::new(range(index, edit.range, encoding), edit.new_text.clone())
 }
 
-/// An LSP hover with markdown contents.
-pub(crate) fn hover(hover: &Hover, index: &LineIndex, encoding: PositionEncoding) -> lsp::Hover {
-    lsp::Hover {
-        contents: lsp::HoverContents::Markup(lsp::MarkupContent {
+/// An LSP hover: markdown, or plain text for a client that does not show markdown.
+pub(crate) fn hover(
+    hover: &Hover,
+    index: &LineIndex,
+    encoding: PositionEncoding,
+    markdown: bool,
+) -> lsp::Hover {
+    let contents = if markdown {
+        lsp::MarkupContent {
             kind: lsp::MarkupKind::Markdown,
             value: hover.markdown.clone(),
-        }),
+        }
+    } else {
+        lsp::MarkupContent {
+            kind: lsp::MarkupKind::PlainText,
+            value: plain_text(&hover.markdown),
+        }
+    };
+    lsp::Hover {
+        contents: lsp::HoverContents::Markup(contents),
         range: Some(range(index, hover.range, encoding)),
     }
+}
+
+/// The hover markdown as plain text: without code fences, inline-code backticks and bold
+/// markers (the only markdown hovers use).
+fn plain_text(markdown: &str) -> String {
+    markdown
+        .lines()
+        .filter(|line| !line.trim_start().starts_with("```"))
+        .map(|line| line.replace("**", "").replace('`', ""))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// The LSP symbol kind of an analysis symbol kind.
@@ -387,6 +411,16 @@ mod tests {
     use higraph_analysis::{Code, FileId, RelatedInfo};
 
     use super::*;
+
+    #[test]
+    fn plain_text_hovers_drop_the_markdown() {
+        let markdown =
+            "```higraph\nOben : BOOL\n```\n\n`in` variable of graph `Ventil` · **formal**";
+        assert_eq!(
+            plain_text(markdown),
+            "Oben : BOOL\n\nin variable of graph Ventil · formal"
+        );
+    }
 
     #[test]
     fn diagnostics_carry_code_source_related_information_and_tags() {

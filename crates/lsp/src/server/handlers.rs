@@ -102,7 +102,7 @@ pub(crate) fn completion(
     Ok(Some(lsp::CompletionResponse::Array(items)))
 }
 
-/// `textDocument/hover`: markdown.
+/// `textDocument/hover`: markdown, or plain text for a client that lists only that.
 pub(crate) fn hover(
     snapshot: &Snapshot,
     params: lsp::HoverParams,
@@ -112,7 +112,8 @@ pub(crate) fn hover(
         return Ok(None);
     };
     let hover = snapshot.analysis.hover(&position)?;
-    Ok(hover.map(|hover| convert::hover(&hover, &index, snapshot.encoding)))
+    let markdown = snapshot.support.hover_markdown;
+    Ok(hover.map(|hover| convert::hover(&hover, &index, snapshot.encoding, markdown)))
 }
 
 /// `textDocument/definition`.
