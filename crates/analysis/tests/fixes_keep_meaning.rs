@@ -8,45 +8,13 @@
 //!   engine);
 //! * HG4001 — the fix labels every unlabelled block of the diagnostic's range.
 
+mod common;
+
 use std::{collections::BTreeMap, fs, path::Path};
 
-use higraph_analysis::{AnalysisHost, Diagnostic, FileContents, WorkspaceData};
+use higraph_analysis::{AnalysisHost, Diagnostic};
 
 const CODES: &[&str] = &["HG0010", "HG1101", "HG1102", "HG4001"];
-
-/// Splits a fixture into files (path, text), as `tests/rules.rs` does.
-fn files(text: &str) -> Vec<(String, String)> {
-    if !text.starts_with("//- ") {
-        return vec![("main.higraph".to_owned(), text.to_owned())];
-    }
-    let mut files: Vec<(String, String)> = Vec::new();
-    for line in text.split_inclusive('\n') {
-        if let Some(path) = line.strip_prefix("//- ") {
-            files.push((path.trim().to_owned(), String::new()));
-        } else if let Some((_, body)) = files.last_mut() {
-            body.push_str(line);
-        }
-    }
-    files
-}
-
-fn load(files: &[(String, String)]) -> AnalysisHost {
-    let mut data = WorkspaceData::default();
-    for (path, body) in files {
-        let contents = FileContents::from_bytes(body.clone().into_bytes());
-        if path == "higraph.toml" {
-            data.config = Some((path.clone(), contents));
-        } else if path.ends_with(".higraph") {
-            data.files.push((path.clone(), contents));
-        } else {
-            data.imports
-                .insert(path.clone(), Ok(body.clone().into_bytes()));
-        }
-    }
-    let mut host = AnalysisHost::new();
-    host.load(data);
-    host
-}
 
 /// Every diagnostic with the path of its file.
 fn diagnostics(host: &AnalysisHost) -> Vec<(String, Diagnostic)> {
@@ -88,8 +56,8 @@ fn fixes_remove_their_diagnostic_and_add_none() {
         paths.sort();
         for path in paths {
             let name = format!("{code}/{}", path.file_name().unwrap().to_string_lossy());
-            let original = files(&fs::read_to_string(&path).expect("fixture"));
-            let host = load(&original);
+            let original = common::fixture_files(&fs::read(&path).expect("fixture"));
+            let host = common::load_fixture(&original);
             let paths: Vec<String> = host
                 .analysis()
                 .files()
@@ -111,20 +79,22 @@ fn fixes_remove_their_diagnostic_and_add_none() {
                             .iter_mut()
                             .find(|(p, _)| p == path)
                             .expect("edited file is a fixture file");
-                        text.replace_range(
+                        text.splice(
                             std::ops::Range::<usize>::from(edit.range),
-                            &edit.new_text,
+                            edit.new_text.bytes(),
                         );
                     }
-                    let now = counts(&diagnostics(&load(&fixed)));
+                    let now = counts(&diagnostics(&common::load_fixture(&fixed)));
                     let what = format!("{name}: {code} '{}'", fix.title);
                     if now.get(code) >= was.get(code) {
                         problems.push(format!("{what}: {code} stays"));
                     }
                     for (c, n) in &now {
                         if n > was.get(c).unwrap_or(&0) {
-                            let after: Vec<_> =
-                                fixed.iter().map(|(p, t)| format!("//- {p}\n{t}")).collect();
+                            let after: Vec<_> = fixed
+                                .iter()
+                                .map(|(p, t)| format!("//- {p}\n{}", String::from_utf8_lossy(t)))
+                                .collect();
                             problems.push(format!("{what}: adds {c}\n{}", after.concat()));
                         }
                     }

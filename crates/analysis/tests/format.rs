@@ -11,12 +11,12 @@
 //! * Every rule fixture (`test_data/rules`) and example workspace gives the same diagnostics
 //!   before and after formatting: formatting does not change the meaning.
 
-use std::collections::HashMap;
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use higraph_analysis::format::{FormatError, format};
-use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
 use higraph_syntax::{
     SyntaxKind::{self, *},
     SyntaxNode, SyntaxToken, parse,
@@ -344,47 +344,11 @@ fn whitespace_and_comment_variants() {
     }
 }
 
-/// One file of a fixture workspace: its path and its bytes.
-type FixtureFile = (String, Vec<u8>);
-
-/// Splits a rule fixture into files (path, bytes): a single `main.higraph`, or several files
-/// introduced by `//- path` lines (the format of `tests/rules.rs`).
-fn fixture_files(bytes: &[u8]) -> Vec<FixtureFile> {
-    if !bytes.starts_with(b"//- ") {
-        return vec![("main.higraph".to_owned(), bytes.to_vec())];
-    }
-    let mut files: Vec<FixtureFile> = Vec::new();
-    for line in bytes.split_inclusive(|&b| b == b'\n') {
-        if let Some(path) = line.strip_prefix(b"//- ") {
-            files.push((String::from_utf8_lossy(path).trim().to_owned(), Vec::new()));
-        } else if let Some((_, body)) = files.last_mut() {
-            body.extend_from_slice(line);
-        }
-    }
-    files
-}
-
 /// The diagnostics of a workspace as `path severity code message` lines, sorted, with the
 /// message in lower case and without white space (messages quote opcodes and expressions as
 /// written).
-fn workspace_diagnostics(files: &[FixtureFile]) -> Vec<String> {
-    let mut data = WorkspaceData::default();
-    let mut imports = HashMap::new();
-    for (path, body) in files {
-        if path.ends_with(" !unreadable") {
-            continue;
-        } else if path == "higraph.toml" {
-            data.config = Some((path.clone(), FileContents::from_bytes(body.to_vec())));
-        } else if path.ends_with(".higraph") {
-            data.files
-                .push((path.clone(), FileContents::from_bytes(body.clone())));
-        } else {
-            imports.insert(path.clone(), Ok(body.clone()));
-        }
-    }
-    data.imports = imports;
-    let mut host = AnalysisHost::new();
-    host.load(data);
+fn workspace_diagnostics(files: &[common::FixtureFile]) -> Vec<String> {
+    let host = common::load_fixture(files);
     let analysis = host.analysis();
     let paths: Vec<String> = analysis.files().into_iter().map(|f| f.path).collect();
     let mut lines: Vec<String> = analysis
@@ -412,13 +376,13 @@ fn workspace_diagnostics(files: &[FixtureFile]) -> Vec<String> {
 #[test]
 fn formatting_keeps_the_diagnostics() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let mut workspaces: Vec<(String, Vec<FixtureFile>)> = Vec::new();
+    let mut workspaces: Vec<(String, Vec<common::FixtureFile>)> = Vec::new();
     let mut fixtures = Vec::new();
     collect(&root.join("crates/analysis/test_data/rules"), &mut fixtures);
     fixtures.sort();
     for path in fixtures {
         let bytes = fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        workspaces.push((path.display().to_string(), fixture_files(&bytes)));
+        workspaces.push((path.display().to_string(), common::fixture_files(&bytes)));
     }
     for example in ["drilling", "mixer", "mistakes"] {
         let folder = root.join("examples").join(example);
@@ -439,7 +403,7 @@ fn formatting_keeps_the_diagnostics() {
     }
     let mut formatted_files = 0;
     for (name, files) in workspaces {
-        let formatted: Vec<FixtureFile> = files
+        let formatted: Vec<common::FixtureFile> = files
             .iter()
             .map(|(path, body)| {
                 let new = match std::str::from_utf8(body) {

@@ -1,6 +1,8 @@
 //! `fmt` preserves meaning: the semantic model (`higraph_analysis::model`) of every example,
 //! parser fixture and rule fixture is the same before and after formatting.
 
+mod common;
+
 use std::{fs, path::Path};
 
 use higraph_analysis::{format::format, model::model_of};
@@ -19,26 +21,6 @@ fn collect(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
     }
 }
 
-/// The `.higraph` texts of a file: itself, or the `//- x.higraph` sections of a fixture.
-fn sources(text: &str) -> Vec<String> {
-    if !text.starts_with("//- ") {
-        return vec![text.to_owned()];
-    }
-    let mut files: Vec<(String, String)> = Vec::new();
-    for line in text.split_inclusive('\n') {
-        if let Some(path) = line.strip_prefix("//- ") {
-            files.push((path.trim().to_owned(), String::new()));
-        } else if let Some((_, body)) = files.last_mut() {
-            body.push_str(line);
-        }
-    }
-    files
-        .into_iter()
-        .filter(|(p, _)| p.ends_with(".higraph"))
-        .map(|(_, t)| t)
-        .collect()
-}
-
 #[test]
 fn formatting_preserves_the_semantic_model() {
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
@@ -55,7 +37,7 @@ fn formatting_preserves_the_semantic_model() {
         let Ok(text) = fs::read_to_string(&path) else {
             continue;
         };
-        for source in sources(&text) {
+        for source in common::fixture_sources(text.as_bytes()) {
             let parse = higraph_syntax::parse(&source);
             if !parse.errors().is_empty() {
                 continue;

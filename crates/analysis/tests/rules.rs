@@ -6,47 +6,15 @@
 //! diagnostics of every failing fixture are snapshotted (code, severity, file, range, message,
 //! related, fixes).
 
-use std::{collections::HashMap, fs, path::Path};
+mod common;
 
-use higraph_analysis::{AnalysisHost, FileContents, LineIndex, WorkspaceData};
+use std::{fs, path::Path};
 
-/// Splits a fixture into files (path, bytes).
-fn files(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
-    if !bytes.starts_with(b"//- ") {
-        return vec![("main.higraph".to_owned(), bytes.to_vec())];
-    }
-    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
-    for line in bytes.split_inclusive(|&b| b == b'\n') {
-        if let Some(path) = line.strip_prefix(b"//- ") {
-            files.push((String::from_utf8_lossy(path).trim().to_owned(), Vec::new()));
-        } else if let Some((_, body)) = files.last_mut() {
-            body.extend_from_slice(line);
-        }
-    }
-    files
-}
+use higraph_analysis::LineIndex;
 
 /// Runs the analysis over a fixture and renders every diagnostic, one per line.
 pub fn check_fixture(bytes: &[u8]) -> Vec<(String, String)> {
-    let mut data = WorkspaceData::default();
-    let mut imports = HashMap::new();
-    for (path, body) in files(bytes) {
-        if let Some(path) = path.strip_suffix(" !unreadable") {
-            data.files.push((
-                path.to_owned(),
-                FileContents::unreadable("Permission denied"),
-            ));
-        } else if path == "higraph.toml" {
-            data.config = Some((path, FileContents::from_bytes(body)));
-        } else if path.ends_with(".higraph") {
-            data.files.push((path, FileContents::from_bytes(body)));
-        } else {
-            imports.insert(path, Ok(body));
-        }
-    }
-    data.imports = imports;
-    let mut host = AnalysisHost::new();
-    host.load(data);
+    let host = common::load_fixture(&common::fixture_files(bytes));
     let analysis = host.analysis();
     let out_files = analysis.files();
     let indexes: Vec<LineIndex> = out_files
