@@ -14,8 +14,8 @@ pub(crate) enum Access {
     Read,
     Write,
     ReadWrite,
-    /// A CALL actual whose callee's interface is unknown: a use, never reported by HG1209 or
-    /// HG4401.
+    /// A CALL actual whose callee's interface is unknown, or the operand of `S`/`R` of a type
+    /// they do not take: a use, never reported by HG1209 or HG4401.
     Unknown,
 }
 

@@ -479,7 +479,10 @@ impl OperandRule {
             Edge | TimerStart | Enable | Count => Access::ReadWrite,
             Set if ty == Some(Type::Counter) => Access::ReadWrite,
             Reset if timer_or_counter => Access::ReadWrite,
-            Set | Reset => Access::Write,
+            // Appendix E: `S`/`R` write a BOOL operand. On any other type they are a type
+            // error (HG4201), not a write: a use, as for an unknown callee.
+            Set | Reset if matches!(ty, Some(Type::Bool) | None) => Access::Write,
+            Set | Reset => Access::Unknown,
             _ => Access::Read,
         }
     }
