@@ -137,7 +137,12 @@ impl Config {
                                 self.exclude = globs;
                             }
                         }
-                        _ => self.symbols = list,
+                        _ => {
+                            self.symbols = list
+                                .into_iter()
+                                .map(|(path, at)| (normalise_path(&path), at))
+                                .collect();
+                        }
                     },
                     None => self.problems.push((
                         range(value.span()),
@@ -229,6 +234,28 @@ impl Config {
     }
 }
 
+/// A workspace-relative path as output names files (`diagnostics.md` §4.1): `/`
+/// separators, no `.` segments, `x/..` folded away (`plc/../plc/a.sdf` is `plc/a.sdf`).
+/// Leading `..` segments (a file outside the workspace) are kept.
+fn normalise_path(path: &str) -> String {
+    let mut segments: Vec<&str> = Vec::new();
+    for segment in path.split(['/', '\\']) {
+        match segment {
+            "" | "." => {}
+            ".." if segments.last().is_some_and(|last| *last != "..") => {
+                segments.pop();
+            }
+            _ => segments.push(segment),
+        }
+    }
+    let joined = segments.join("/");
+    if path.starts_with('/') {
+        format!("/{joined}")
+    } else {
+        joined
+    }
+}
+
 fn string_array(value: &toml::Spanned<DeValue<'_>>) -> Option<Vec<(String, TextRange)>> {
     let DeValue::Array(items) = value.get_ref() else {
         return None;
@@ -306,5 +333,16 @@ mod tests {
             &contents.text()[std::ops::Range::<usize>::from(*at)],
             "\u{FFFD}"
         );
+    }
+
+    #[test]
+    fn symbol_table_paths_are_named_as_output_names_files() {
+        assert_eq!(normalise_path("plc/../plc/other.sdf"), "plc/other.sdf");
+        assert_eq!(normalise_path("./plc//a.sdf"), "plc/a.sdf");
+        assert_eq!(normalise_path("plc\\a.sdf"), "plc/a.sdf");
+        assert_eq!(normalise_path("../shared/a.sdf"), "../shared/a.sdf");
+        assert_eq!(normalise_path("/abs/x/../a.sdf"), "/abs/a.sdf");
+        let config = Config::parse("[workspace]\nsymbols = [\"plc/../plc/a.sdf\"]\n");
+        assert_eq!(config.symbols[0].0, "plc/a.sdf");
     }
 }
