@@ -295,6 +295,12 @@ pub fn is_area_word(word: &str, set: Mnemonic) -> bool {
     matches!(find_area(word, set), Some((a, AreaMatch::Active)) if !(a.size == Size::Bit && matches!(a.area, Area::PeripheralInput | Area::PeripheralOutput)))
 }
 
+/// Is `word` spelled like an address-area identifier of either set (Appendix A.2), the bare
+/// peripheral `PE`/`PA`/`PI`/`PQ` included? (The formatter writes such words in upper case.)
+pub fn is_area_spelling(word: &str) -> bool {
+    find_area(word, Mnemonic::Simatic).is_some()
+}
+
 /// Is `word` a bit area of `set` (`E A M L`, `DBX`, `DIX`, or the bare peripheral `PE`/`PA`)?
 pub fn is_bit_area(word: &str, set: Mnemonic) -> bool {
     matches!(find_area(word, set), Some((a, AreaMatch::Active)) if a.size == Size::Bit)

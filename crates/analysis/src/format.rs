@@ -609,19 +609,11 @@ const JOINED: &[SyntaxKind] = &[
 /// spacing is part of what they mean (`E 1.0` vs `E1.0`, `-5`).
 const PRESERVED: &[SyntaxKind] = &[ADDRESS, LITERAL, INDIRECT, PATH, MESSAGE_TARGET];
 
-/// Address-area identifiers of both mnemonic sets (diagnostics.md Appendix A.2).
-const AREAS: &[&str] = &[
-    "E", "A", "M", "L", "I", "Q", "EB", "EW", "ED", "AB", "AW", "AD", "MB", "MW", "MD", "LB", "LW",
-    "LD", "IB", "IW", "ID", "QB", "QW", "QD", "PEB", "PEW", "PED", "PAB", "PAW", "PAD", "PIB",
-    "PIW", "PID", "PQB", "PQW", "PQD", "PE", "PA", "PI", "PQ", "DBX", "DBB", "DBW", "DBD", "DIX",
-    "DIB", "DIW", "DID", "T", "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
-];
-
-/// An identifier inside an address that is an area, optionally followed by digits (`E`, `MW`,
-/// `DB10`, `DBX5`, `E1`).
+/// An identifier inside an address that is an area of either mnemonic set (Appendix A.2),
+/// optionally followed by digits (`E`, `MW`, `DB10`, `DBX5`, `E1`).
 fn is_area_word(word: &str) -> bool {
     let letters = word.trim_end_matches(|c: char| c.is_ascii_digit());
-    AREAS.iter().any(|area| area.eq_ignore_ascii_case(letters))
+    crate::address::is_area_spelling(letters)
 }
 
 /// Is this a `DBn . DBX…` message target that would read as a data-block address if its
@@ -686,6 +678,9 @@ fn token_text(token: &SyntaxToken) -> String {
             }
         }
         Some(ADDRESS) if kind == IDENT && is_area_word(text) => text.to_ascii_uppercase(),
+        Some(NAME_REF) if kind == IDENT && crate::resolve::is_one_word_address_operand(token) => {
+            text.to_ascii_uppercase()
+        }
         _ => text.to_owned(),
     }
 }
@@ -1177,7 +1172,8 @@ fn stream_token(token: &SyntaxToken, out: &mut Vec<String>) {
     let parent = token.parent().map_or(SOURCE_FILE, |p| p.kind());
     let folded = token.kind().is_keyword()
         || matches!(parent, OPCODE | LABEL | QUALIFIER | TYPE_REF | ADDRESS)
-        || chart_prop_value(token).is_some();
+        || chart_prop_value(token).is_some()
+        || (token.kind() == IDENT && crate::resolve::is_one_word_address_operand(token));
     let text = if folded {
         token.text().to_ascii_lowercase()
     } else {

@@ -223,6 +223,7 @@ fn token_text(token: &SyntaxToken) -> String {
         token.text().to_ascii_lowercase()
     } else if in_kind(SyntaxKind::OPCODE)
         || in_kind(SyntaxKind::ADDRESS)
+        || crate::resolve::is_one_word_address_operand(token)
         || in_kind(SyntaxKind::TYPE_REF)
         || in_kind(SyntaxKind::LABEL)
         || in_kind(SyntaxKind::QUALIFIER)

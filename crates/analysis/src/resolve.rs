@@ -936,6 +936,33 @@ pub(crate) fn address_without_space(name: &str, set: Mnemonic) -> Option<address
     (!read.other_set && well_formed_shape(name, set)).then_some(read)
 }
 
+/// An operand written as one word that is an address (§2.4 rule 1: `mw10`, `t5`, `fc1`, in
+/// either mnemonic set, the other one being HG4007) where such a word always is that address:
+/// graph operands, CALL targets and actuals, group actuals and `fc`/`db` clauses, `block`
+/// headers. Not in charts, where a variable of that spelling comes first, and not where a
+/// name is expected (the graph of an instance). `fmt` writes such a word in upper case, as it
+/// writes every address, and the semantic model compares it so.
+pub(crate) fn is_one_word_address_operand(token: &higraph_syntax::SyntaxToken) -> bool {
+    use higraph_syntax::SyntaxKind::{ACTIVATE, CHART, INSTANCE, NAME_REF};
+    let Some(name_ref) = token.parent().filter(|p| p.kind() == NAME_REF) else {
+        return false;
+    };
+    if name_ref
+        .parent()
+        .is_some_and(|p| matches!(p.kind(), INSTANCE | ACTIVATE))
+        || name_ref.ancestors().any(|n| n.kind() == CHART)
+    {
+        return false;
+    }
+    let text = token.text();
+    [
+        crate::lang::Mnemonic::Simatic,
+        crate::lang::Mnemonic::International,
+    ]
+    .into_iter()
+    .any(|set| address_without_space(text, set).is_some())
+}
+
 /// HG4007: an identifier whose letters are an area only of the other set, followed by digits
 /// (`I1`, `IW2`, `C5` in a SIMATIC file). Read in the other set.
 fn other_set_address_without_space(name: &str, set: Mnemonic) -> Option<address::ReadAddress> {

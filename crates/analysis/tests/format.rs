@@ -161,8 +161,17 @@ fn normalised(token: &SyntaxToken) -> String {
             .parent()
             .and_then(|p| p.parent())
             .is_some_and(|p| p.kind() == CHART_PROP);
+    // A one-word address in operand position (`mw10`) is written in upper case; names are
+    // compared case-insensitively anyway, so letters-then-digits words are folded here.
+    let word = token.text();
+    let letters = word.trim_end_matches(|c: char| c.is_ascii_digit());
+    let address_shaped = parent == Some(NAME_REF)
+        && letters.len() < word.len()
+        && !letters.is_empty()
+        && letters.bytes().all(|b| b.is_ascii_alphabetic());
     let case_free = token.kind().is_keyword()
         || chart_prop_value
+        || address_shaped
         || matches!(
             parent,
             Some(SyntaxKind::OPCODE | LABEL | QUALIFIER | TYPE_REF | ADDRESS)
