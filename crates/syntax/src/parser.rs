@@ -150,6 +150,8 @@ pub(crate) struct Parser<'t> {
     base: usize,
     builder: TreeBuilder<'t>,
     errors: Vec<SyntaxError>,
+    /// Number of HG0001 and HG0002 reported so far ([`Parser::recoveries`]).
+    recoveries: usize,
 }
 
 impl<'t> Parser<'t> {
@@ -267,6 +269,7 @@ impl<'t> Parser<'t> {
             base: text.as_ptr() as usize,
             builder,
             errors,
+            recoveries: 0,
         }
     }
 
@@ -503,9 +506,12 @@ impl<'t> Parser<'t> {
 
     // ------------------------------------------------------------------ errors
 
-    /// Number of diagnostics so far (lets a caller see whether a sub-parser recovered).
-    pub(crate) fn error_count(&self) -> usize {
-        self.errors.len()
+    /// Number of HG0001 and HG0002 reported so far: a caller compares it before and after a
+    /// sub-parser to see whether the sub-parser recovered from a syntax error (cascade rule C1:
+    /// then the caller reports nothing more). Other diagnostics do not count: a malformed or
+    /// out-of-range constant (HG0006/HG0007) leaves the construct complete.
+    pub(crate) fn recoveries(&self) -> usize {
+        self.recoveries
     }
 
     pub(crate) fn push_error(&mut self, error: SyntaxError) {
@@ -516,6 +522,7 @@ impl<'t> Parser<'t> {
     pub(crate) fn error_expected(&mut self, expected: &str) {
         let range = self.nth_range(0);
         let message = format!("expected {expected}, found {}", self.found());
+        self.recoveries += 1;
         self.errors
             .push(SyntaxError::new(ErrorCode::HG0001, range, message));
     }
@@ -523,6 +530,7 @@ impl<'t> Parser<'t> {
     /// HG0002: the element is complete but its `;` is missing.
     pub(crate) fn error_missing_semi(&mut self, element: &dyn fmt::Display) {
         let at = TextRange::empty(self.last_end);
+        self.recoveries += 1;
         self.errors.push(
             SyntaxError::new(
                 ErrorCode::HG0002,

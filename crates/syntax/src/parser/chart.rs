@@ -325,10 +325,10 @@ fn at_step_item(p: &Parser<'_>) -> bool {
 /// `expr;`
 fn condition(p: &mut Parser<'_>) {
     p.start(CONDITION);
-    let errors = p.error_count();
+    let recoveries = p.recoveries();
     if !expr(p) {
         p.error_and_recover("a condition or '>'");
-    } else if p.error_count() == errors {
+    } else if p.recoveries() == recoveries {
         p.expect_semi(&"the condition", at_operand);
     }
     p.finish_node();
@@ -348,10 +348,10 @@ fn assignment(p: &mut Parser<'_>) {
         return;
     }
     p.bump_node(ASSIGN_OP, 2);
-    let errors = p.error_count();
+    let recoveries = p.recoveries();
     if !expr(p) {
         p.error_and_recover("an expression");
-    } else if p.error_count() == errors {
+    } else if p.recoveries() == recoveries {
         p.expect_semi(&"the assignment", |p| matches!(p.current(), IDENT | STRING));
     }
     p.finish_node();
@@ -454,10 +454,10 @@ fn primary(p: &mut Parser<'_>) -> bool {
     if p.at(L_PAREN) {
         p.start(PAREN_EXPR);
         p.bump();
-        let errors = p.error_count();
+        let recoveries = p.recoveries();
         if !expr(p) {
             p.error_and_recover("an expression");
-        } else if p.error_count() == errors {
+        } else if p.recoveries() == recoveries {
             if p.at(R_PAREN) {
                 p.bump();
             } else {

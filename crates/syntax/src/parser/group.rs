@@ -121,7 +121,7 @@ fn actual(p: &mut Parser<'_>) {
         return;
     }
     p.bump_node(ASSIGN_OP, 2);
-    let errors = p.error_count();
+    let recoveries = p.recoveries();
     let is_message = p.at(IDENT) && p.nth(1) == DOT && p.nth(2) == IDENT && !stl::at_db_address(p);
     if is_message {
         p.start(MESSAGE_TARGET);
@@ -134,7 +134,7 @@ fn actual(p: &mut Parser<'_>) {
         p.finish_node();
         return;
     }
-    if p.error_count() == errors {
+    if p.recoveries() == recoveries {
         p.expect_semi(&element, |p| p.at(IDENT));
     }
     p.finish_node();

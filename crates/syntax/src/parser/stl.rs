@@ -268,10 +268,10 @@ fn time_item(p: &mut Parser<'_>) {
     p.start(if is_wait { WAIT_ITEM } else { SUPERVISE_ITEM });
     let word = p.nth_text(0);
     p.bump_keyword();
-    let errors = p.error_count();
+    let recoveries = p.recoveries();
     if p.nth_on_new_line(0) || !operand(p) {
         p.error_and_recover("a time constant or operand");
-    } else if p.error_count() == errors {
+    } else if p.recoveries() == recoveries {
         let element = lazy(|f| write!(f, "the '{}' item", word.to_ascii_lowercase()));
         p.expect_semi(&element, |p| {
             at_stmt_start(p) || p.at_kw(WAIT_KW) || p.at_kw(SUPERVISE_KW)
@@ -306,14 +306,14 @@ pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
     // A label after the operation is never its operand (diagnostics.md HG0002).
     let operand_follows = !p.nth_on_new_line(0) && !p.at(SEMI) && !at_label(p) && !at_jump_label(p);
     if operand_follows {
-        let errors = p.error_count();
+        let recoveries = p.recoveries();
         if n == 1 && is_call {
             call_args(p);
         } else {
             // No operand is fine here; `expect_semi` reports a token that cannot follow.
             operand(p);
         }
-        if p.error_count() > errors {
+        if p.recoveries() > recoveries {
             // The arguments reported and recovered already.
             p.finish_node();
             return;
@@ -351,10 +351,10 @@ fn call_args(p: &mut Parser<'_>) {
                 p.start(PARAM);
                 p.bump_node(NAME_REF, 1);
                 p.bump_node(ASSIGN_OP, 2);
-                let errors = p.error_count();
+                let recoveries = p.recoveries();
                 let ok = operand(p);
                 p.finish_node();
-                if p.error_count() > errors {
+                if p.recoveries() > recoveries {
                     break;
                 }
                 if !ok {
