@@ -167,11 +167,15 @@ fn symbol(p: &mut Parser<'_>) {
     if p.at_colon() {
         p.bump();
         if stl::address_in_table(p) {
-            if p.at(IDENT) && !p.nth_on_new_line(0) && !type_ref(p) {
+            // A name or string followed by `:` begins the next symbol: it is neither the
+            // type nor the comment of this one, whose `;` is missing (HG0002).
+            if p.at(IDENT) && !p.nth_on_new_line(0) && !at_symbol(p) && !type_ref(p) {
                 p.finish_node();
                 return;
             }
-            p.opt_comment_string();
+            if !at_symbol(p) {
+                p.opt_comment_string();
+            }
             p.expect_semi(&element, |p| matches!(p.current(), IDENT | STRING));
         } else {
             p.error_and_recover("an address");
@@ -180,6 +184,13 @@ fn symbol(p: &mut Parser<'_>) {
         p.error_and_recover("':'");
     }
     p.finish_node();
+}
+
+/// `NAME :` or `STRING :` (not `:=`): the beginning of a symbol.
+fn at_symbol(p: &Parser<'_>) -> bool {
+    matches!(p.current(), IDENT | STRING)
+        && p.nth(1) == COLON
+        && !(p.nth(2) == EQ && p.nth_joined(2))
 }
 
 /// `block FC 10 ["comment"] < var sections >`
