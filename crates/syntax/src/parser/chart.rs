@@ -276,7 +276,7 @@ fn step_item(p: &mut Parser<'_>) {
         p.start(STEP_TIME);
         let word = p.nth_text(0);
         p.bump_keyword();
-        if p.nth_on_new_line(0) || !chart_operand(p) {
+        if !chart_operand(p) {
             p.error_and_recover("a time value");
         } else {
             let element = lazy(|f| write!(f, "'{}'", word.to_ascii_lowercase()));
@@ -293,7 +293,7 @@ fn step_item(p: &mut Parser<'_>) {
         let action = p.nth_text(0);
         let element = lazy(|f| write!(f, "the '{action}' action"));
         p.bump_node(QUALIFIER, 1);
-        if p.nth_on_new_line(0) || !chart_operand(p) {
+        if !chart_operand(p) {
             p.error_and_recover("an operand");
             p.finish_node();
             return;

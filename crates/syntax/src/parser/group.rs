@@ -122,6 +122,8 @@ fn actual(p: &mut Parser<'_>) {
     }
     p.bump_node(ASSIGN_OP, 2);
     let recoveries = p.recoveries();
+    // The value may begin on a later line: the line rule of language.md §1.3 is for STL
+    // operands only.
     let is_message = p.at(IDENT) && p.nth(1) == DOT && p.nth(2) == IDENT && !stl::at_db_address(p);
     if is_message {
         p.start(MESSAGE_TARGET);
@@ -129,7 +131,7 @@ fn actual(p: &mut Parser<'_>) {
         p.bump();
         p.bump_node(NAME_REF, 1);
         p.finish_node();
-    } else if p.nth_on_new_line(0) || !stl::operand(p) {
+    } else if !stl::operand(p) {
         p.error_and_recover("an operand, a constant or 'Instance.Message'");
         p.finish_node();
         return;

@@ -269,7 +269,9 @@ fn time_item(p: &mut Parser<'_>) {
     let word = p.nth_text(0);
     p.bump_keyword();
     let recoveries = p.recoveries();
-    if p.nth_on_new_line(0) || !operand(p) {
+    // The value may begin on a later line: the line rule of language.md §1.3 is for STL
+    // operands only.
+    if !operand(p) {
         p.error_and_recover("a time constant or operand");
     } else if p.recoveries() == recoveries {
         let element = lazy(|f| write!(f, "the '{}' item", word.to_ascii_lowercase()));
