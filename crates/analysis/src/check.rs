@@ -232,8 +232,7 @@ fn rename_edits(
 ) -> Option<Vec<TextEdit>> {
     let (declaration, _) = fix.edits.first()?;
     let offset = db::absolute_range(db, declaration).start();
-    let change =
-        crate::ide::rename::rename_edits(db, ws, declaration.file, offset, new_name).ok()?;
+    let change = crate::ide::rename::rename(db, ws, declaration.file, offset, new_name).ok()?;
     let by_path: HashMap<&String, File> = ws.files(db).iter().map(|&f| (f.path(db), f)).collect();
     let mut edits = Vec::new();
     for (path, file_edits) in &change.files {

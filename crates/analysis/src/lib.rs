@@ -17,6 +17,8 @@ pub mod db;
 pub mod diag;
 mod diagnostic;
 mod file_contents;
+#[doc(hidden)]
+pub mod fixture_workspace;
 pub mod format;
 mod host;
 pub mod ide;

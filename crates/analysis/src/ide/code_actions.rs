@@ -214,7 +214,7 @@ mod tests {
 
     use super::{CodeAction, line_diff};
     use crate::{
-        AnalysisHost, FileContents, WorkspaceData,
+        AnalysisHost,
         ide::{Edit, fixture},
     };
 
@@ -325,44 +325,7 @@ graph Ventil <
 
     // -------------------------------------------------------------------------- fixtures
 
-    /// A rule fixture as files: `//- path` sections, or one `main.higraph`.
-    fn fixture_files(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
-        if !bytes.starts_with(b"//- ") {
-            return vec![("main.higraph".to_owned(), bytes.to_vec())];
-        }
-        let mut files: Vec<(String, Vec<u8>)> = Vec::new();
-        for line in bytes.split_inclusive(|&b| b == b'\n') {
-            if let Some(path) = line.strip_prefix(b"//- ") {
-                files.push((String::from_utf8_lossy(path).trim().to_owned(), Vec::new()));
-            } else if let Some((_, body)) = files.last_mut() {
-                body.extend_from_slice(line);
-            }
-        }
-        files
-    }
-
-    /// Loads fixture files the way `tests/rules.rs` does.
-    fn load(files: &[(String, Vec<u8>)]) -> AnalysisHost {
-        let mut data = WorkspaceData::default();
-        for (path, body) in files {
-            if let Some(path) = path.strip_suffix(" !unreadable") {
-                data.files.push((
-                    path.to_owned(),
-                    FileContents::unreadable("Permission denied"),
-                ));
-            } else if path == "higraph.toml" {
-                data.config = Some((path.clone(), crate::FileContents::from_bytes(body.clone())));
-            } else if path.ends_with(".higraph") {
-                data.files
-                    .push((path.clone(), FileContents::from_bytes(body.clone())));
-            } else {
-                data.imports.insert(path.clone(), Ok(body.clone()));
-            }
-        }
-        let mut host = AnalysisHost::new();
-        host.load(data);
-        host
-    }
+    use crate::fixture_workspace::{fixture_files, load_fixture as load};
 
     /// The number of diagnostics of `code` per file path.
     fn counts(host: &AnalysisHost, code: &str) -> HashMap<String, usize> {

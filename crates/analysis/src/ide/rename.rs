@@ -194,17 +194,7 @@ fn not_renamable(db: &dyn salsa::Database, ws: Workspace, file: File, offset: Te
 
 /// The rename of the declared name at `offset` of `file` to `new_name`, as the rename request
 /// does it, or why not: also the edits of the HG1101/HG1102 quick fixes ([`crate::check`]).
-pub(crate) fn rename_edits(
-    db: &dyn salsa::Database,
-    ws: Workspace,
-    file: File,
-    offset: TextSize,
-    new_name: &str,
-) -> Result<SourceChange, String> {
-    rename(db, ws, file, offset, new_name)
-}
-
-fn rename(
+pub(crate) fn rename(
     db: &dyn salsa::Database,
     ws: Workspace,
     file: File,
