@@ -24,7 +24,7 @@ use crate::{
     lang::{self, Section},
     resolve::{self, GraphScope, Role, Target, Usage},
     rules::{
-        Ctx, ItemAnalysis,
+        Ctx,
         chart::{
             ChartInfo, Scope,
             operands::{self, Unresolved},
@@ -229,18 +229,8 @@ pub(crate) fn item_uses<'db>(
     let Some(root) = db::item_root(db, item) else {
         return ItemUses::default();
     };
-    let file = item.file(db);
     let mut walker = Walker {
-        ctx: Ctx {
-            db,
-            ws,
-            file,
-            item: item.index(db),
-            mnemonic: db::file_mnemonic(db, ws, file),
-            index: db::global_index(db, ws),
-            out: ItemAnalysis::default(),
-            in_member: false,
-        },
+        ctx: Ctx::for_item(db, ws, item),
         uses: Vec::new(),
     };
     match ast::Item::cast(root) {

@@ -106,7 +106,11 @@ impl Ctx<'_> {
 
 impl<'a> Ctx<'a> {
     /// The context for checking `item`.
-    fn for_item(db: &'a dyn salsa::Database, ws: Workspace, item: ItemLoc<'_>) -> Ctx<'a> {
+    pub(crate) fn for_item(
+        db: &'a dyn salsa::Database,
+        ws: Workspace,
+        item: ItemLoc<'_>,
+    ) -> Ctx<'a> {
         let file = item.file(db);
         Ctx {
             db,
