@@ -231,7 +231,10 @@ fn relative_links_resolve_and_nothing_links_outside_the_repository() {
             }
         }
     }
-    assert!(links > 50, "only {links} links found: is the link parser broken?");
+    assert!(
+        links > 50,
+        "only {links} links found: is the link parser broken?"
+    );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
@@ -271,7 +274,10 @@ fn higraph_lsp(dir: &Path, args: &[&str]) -> Output {
 #[test]
 fn complete_examples_of_the_language_reference_check_clean() {
     let (_, fences) = split_fences(&read(&root().join("docs/language.md")));
-    let examples: Vec<&Fence> = fences.iter().filter(|f| f.info == "higraph check").collect();
+    let examples: Vec<&Fence> = fences
+        .iter()
+        .filter(|f| f.info == "higraph check")
+        .collect();
     assert!(
         examples.len() >= 4,
         "docs/language.md has only {} complete examples",
@@ -281,8 +287,8 @@ fn complete_examples_of_the_language_reference_check_clean() {
         let dir = tempfile::tempdir().expect("a temporary folder");
         fs::write(dir.path().join("example.higraph"), &example.body).expect("write the example");
         let output = higraph_lsp(dir.path(), &["check", "--format", "json"]);
-        let json: serde_json::Value = serde_json::from_slice(&output.stdout)
-            .unwrap_or_else(|e| panic!("invalid JSON ({e})"));
+        let json: serde_json::Value =
+            serde_json::from_slice(&output.stdout).unwrap_or_else(|e| panic!("invalid JSON ({e})"));
         let diagnostics = json["diagnostics"].as_array().expect("a diagnostics array");
         assert!(
             output.status.success() && diagnostics.is_empty(),
@@ -311,7 +317,10 @@ fn the_tutorial_replays_with_the_outputs_it_shows() {
             fs::write(&path, &fence.body).expect("write the file");
             files += 1;
         } else if fence.info == "text check" {
-            let (command, expected) = fence.body.split_once('\n').unwrap_or((&fence.body, ""));
+            let (command, expected) = fence
+                .body
+                .split_once('\n')
+                .unwrap_or((fence.body.as_str(), ""));
             let Some(args) = command.strip_prefix("$ higraph-lsp ") else {
                 panic!(
                     "docs/tutorial.md:{}: a check block starts with '$ higraph-lsp ...'",
@@ -337,8 +346,14 @@ fn the_tutorial_replays_with_the_outputs_it_shows() {
             checks += 1;
         }
     }
-    assert!(files >= 10 && checks >= 10, "{files} files, {checks} checks");
+    assert!(
+        files >= 10 && checks >= 10,
+        "{files} files, {checks} checks"
+    );
     // The tutorial ends with a clean workspace.
     let output = higraph_lsp(dir.path(), &["check", "--format", "json"]);
-    assert!(output.status.success(), "the finished tutorial is not clean");
+    assert!(
+        output.status.success(),
+        "the finished tutorial is not clean"
+    );
 }
