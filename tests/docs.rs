@@ -257,7 +257,8 @@ fn the_docs_index_lists_every_rule_page() {
     assert!(pages > 100, "only {pages} rule pages found");
     assert!(
         missing.is_empty(),
-        "docs/README.md does not link: {}",
+        "docs/README.md does not link: {} (add a row `| [HGnnnn](rules/HGnnnn.md) | title | \
+         severity |` to the table of its Rules section)",
         missing.join(", ")
     );
 }
