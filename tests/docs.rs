@@ -358,3 +358,22 @@ fn the_tutorial_replays_with_the_outputs_it_shows() {
         "the finished tutorial is not clean"
     );
 }
+
+#[test]
+fn help_points_to_the_manual_not_to_the_internal_spec() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let top = higraph_lsp(dir.path(), &["--help"]);
+    let top = String::from_utf8_lossy(&top.stdout).into_owned();
+    assert!(top.contains("docs/"), "--help does not name docs/:\n{top}");
+    for command in ["lsp", "check", "parse", "fmt", "explain", "render"] {
+        let help = higraph_lsp(dir.path(), &[command, "--help"]);
+        let help = String::from_utf8_lossy(&help.stdout).into_owned();
+        assert!(help.contains("Usage:"), "{command} --help:\n{help}");
+        for spec in ["language.md", "diagnostics.md", "tooling.md"] {
+            assert!(
+                !help.contains(spec) && !top.contains(spec),
+                "`{command} --help` names the internal spec file {spec}"
+            );
+        }
+    }
+}
