@@ -28,6 +28,11 @@ pub(crate) const EXIT_USAGE: u8 = 2;
 /// Language server and checker for Siemens S7 HiGraph state graphs and SFC charts.
 #[derive(Debug, Parser)]
 #[command(name = "higraph-lsp", version, about, long_about = None)]
+#[command(
+    after_help = "Documentation: the docs/ folder of the higraph-lsp repository (tutorial, \
+language reference, configuration, CI, editors); `higraph-lsp explain CODE` prints the page of \
+one diagnostic code."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -148,7 +153,7 @@ pub(crate) enum Format {
     Human,
     /// `path:line:col: severity[CODE]: message`, one line per diagnostic.
     Short,
-    /// one JSON object with positions in UTF-16 units (diagnostics.md §4.1).
+    /// one JSON object with positions in UTF-16 units (described in docs/ci.md).
     Json,
     /// GitHub Actions workflow commands (`::error file=…`).
     Github,
