@@ -627,13 +627,20 @@ fn status_len(p: &Parser<'_>) -> usize {
     }
 }
 
-/// `[...]`, or an area or size letter and `[...]` on its line: `MW [MD 10]`,
+/// `[...]`, or an area or a size letter (`B`, `W`, `D`) and `[...]` on its line: `MW [MD 10]`,
 /// `E [AR1, P#0.0]`, `W [AR1,P#2.0]`, `B[AR1,P#0.0]`, `FC [MW 50]` — memory- and
 /// register-indirect operands (HG4004; diagnostics.md §2.8).
 fn at_indirect(p: &Parser<'_>) -> bool {
     match p.current() {
         L_BRACK => true,
-        IDENT => p.nth(1) == L_BRACK && !p.nth_on_new_line(1),
+        // The text is looked at only before a `[`, which is rare.
+        IDENT if p.nth(1) == L_BRACK && !p.nth_on_new_line(1) => {
+            p.nth_has(0, word::AREA)
+                || matches!(
+                    p.nth_text(0).as_bytes(),
+                    [b'B' | b'W' | b'D' | b'b' | b'w' | b'd']
+                )
+        }
         _ => false,
     }
 }
