@@ -306,6 +306,64 @@ impl SyntaxKind {
         (MNEMONIC_KW as u16..=NOT_KW as u16).contains(&(self as u16))
     }
 
+    /// Every contextual keyword with its spelling in lower case, in the order of the enum.
+    pub const KEYWORDS: [(&'static str, SyntaxKind); 54] = [
+        ("mnemonic", MNEMONIC_KW),
+        ("simatic", SIMATIC_KW),
+        ("international", INTERNATIONAL_KW),
+        ("graph", GRAPH_KW),
+        ("group", GROUP_KW),
+        ("chart", CHART_KW),
+        ("symbols", SYMBOLS_KW),
+        ("block", BLOCK_KW),
+        ("in", IN_KW),
+        ("out", OUT_KW),
+        ("in_out", IN_OUT_KW),
+        ("stat", STAT_KW),
+        ("msg", MSG_KW),
+        ("activate", ACTIVATE_KW),
+        ("permanent", PERMANENT_KW),
+        ("state", STATE_KW),
+        ("fault", FAULT_KW),
+        ("message", MESSAGE_KW),
+        ("wait", WAIT_KW),
+        ("supervise", SUPERVISE_KW),
+        ("trans", TRANS_KW),
+        ("any", ANY_KW),
+        ("return", RETURN_KW),
+        ("prio", PRIO_KW),
+        ("auto", AUTO_KW),
+        ("manual", MANUAL_KW),
+        ("waits", WAITS_KW),
+        ("fc", FC_KW),
+        ("db", DB_KW),
+        ("option", OPTION_KW),
+        ("instance", INSTANCE_KW),
+        ("type", TYPE_KW),
+        ("mode", MODE_KW),
+        ("switching", SWITCHING_KW),
+        ("run", RUN_KW),
+        ("sequencer", SEQUENCER_KW),
+        ("start", START_KW),
+        ("pre", PRE_KW),
+        ("post", POST_KW),
+        ("step", STEP_KW),
+        ("init", INIT_KW),
+        ("term", TERM_KW),
+        ("min", MIN_KW),
+        ("max", MAX_KW),
+        ("confirm", CONFIRM_KW),
+        ("parallel", PARALLEL_KW),
+        ("alt", ALT_KW),
+        ("branch", BRANCH_KW),
+        ("jump", JUMP_KW),
+        ("loop", LOOP_KW),
+        ("and", AND_KW),
+        ("or", OR_KW),
+        ("xor", XOR_KW),
+        ("not", NOT_KW),
+    ];
+
     /// The keyword kind for a (case-insensitive) word, if the word is a keyword somewhere.
     ///
     /// The parser asks this for every identifier, so the candidates are found by length and
@@ -395,3 +453,22 @@ impl rowan::Language for HiGraphLanguage {
 pub type SyntaxNode = rowan::SyntaxNode<HiGraphLanguage>;
 pub type SyntaxToken = rowan::SyntaxToken<HiGraphLanguage>;
 pub type SyntaxElement = rowan::SyntaxElement<HiGraphLanguage>;
+
+#[cfg(test)]
+mod tests {
+    use super::SyntaxKind::{self, *};
+
+    /// `KEYWORDS` lists every keyword kind once, and `from_keyword` reads each spelling (in
+    /// any case) as its kind.
+    #[test]
+    fn keyword_table_is_complete() {
+        let count = NOT_KW as u16 - MNEMONIC_KW as u16 + 1;
+        assert_eq!(SyntaxKind::KEYWORDS.len(), usize::from(count));
+        for (i, &(text, kind)) in SyntaxKind::KEYWORDS.iter().enumerate() {
+            assert_eq!(kind as u16, MNEMONIC_KW as u16 + i as u16, "{text}");
+            assert!(kind.is_keyword());
+            assert_eq!(SyntaxKind::from_keyword(text), Some(kind));
+            assert_eq!(SyntaxKind::from_keyword(&text.to_uppercase()), Some(kind));
+        }
+    }
+}

@@ -26,7 +26,9 @@
 //!   commas; `B#()` and `B#( )` have zero elements.
 //! * `P#` accepts the bit areas `E A M L I Q` of both mnemonic sets (which set is legal is decided
 //!   in analysis, HG4007), `DBX` and `DIX` (`P#DBX5.0`), the fully qualified `P#DB10.DBX5.0`, and
-//!   the area-less `P#0.0`. The bit number is *not* checked here (a bit above 7 is HG4009, a byte
+//!   the area-less `P#0.0`. Spaces or tabs may stand between the area and the byte number
+//!   (`P#M 100.0`, `P#DBX 8.6`: STEP 7 prints pointers so); the parser joins such a `P#M`
+//!   token and the number after it on its line into one constant. The bit number is *not* checked here (a bit above 7 is HG4009, a byte
 //!   number above 65535 is HG4010, both in analysis); the parts are returned in [`PointerValue`].
 //! * An unclosed `'...` (which the lexer already reports as HG0005) gives an HG0006 error here;
 //!   a caller should not report it a second time.
@@ -1086,16 +1088,25 @@ fn parse_pointer(body: &str) -> Option<PointerValue> {
     if let Some(after_db) = db_number {
         let (number, after_number) = split_run(after_db, u8::is_ascii_digit);
         let db = Some(address_number(number)?);
-        return bit_address(after_number.strip_prefix(".DBX")?, db, Some("DBX"));
+        let rest = after_number.strip_prefix(".DBX")?;
+        return bit_address(after_area(rest)?, db, Some("DBX"));
     }
     // `area byte.bit` or `byte.bit`
     let (letters, rest) = split_run(&upper, u8::is_ascii_alphabetic);
-    let area = if letters.is_empty() {
-        None
-    } else {
-        Some(POINTER_AREAS.iter().copied().find(|a| *a == letters)?)
-    };
-    bit_address(rest, None, area)
+    if letters.is_empty() {
+        return bit_address(rest, None, None);
+    }
+    let area = POINTER_AREAS.iter().copied().find(|a| *a == letters)?;
+    bit_address(after_area(rest)?, None, Some(area))
+}
+
+/// What follows an area in a pointer: the space after the area is optional (`P#M 100.0`, as
+/// STEP 7 prints pointers; language.md §3.5). Spaces and tabs only, and digits must follow.
+fn after_area(rest: &str) -> Option<&str> {
+    let digits = rest.trim_start_matches([' ', '\t']);
+    digits
+        .starts_with(|c: char| c.is_ascii_digit())
+        .then_some(digits)
 }
 
 /// `byte.bit` after the area.
@@ -1871,6 +1882,12 @@ mod tests {
         assert_eq!(value("P#DBX5.0"), p(None, Some("DBX"), 5, 0));
         assert_eq!(value("P#DIX5.0"), p(None, Some("DIX"), 5, 0));
         assert_eq!(value("P#DB10.DBX5.0"), p(Some(10), Some("DBX"), 5, 0));
+        // The space after the area is optional, as STEP 7 prints pointers.
+        assert_eq!(value("P#M 100.0"), p(None, Some("M"), 100, 0));
+        assert_eq!(value("P#DBX 8.6"), p(None, Some("DBX"), 8, 6));
+        assert_eq!(value("P#DIX\t16.0"), p(None, Some("DIX"), 16, 0));
+        assert_eq!(value("P#DB10.DBX  5.0"), p(Some(10), Some("DBX"), 5, 0));
+        assert_eq!(ty("P#M 1.0"), "POINTER");
         assert_eq!(value("p#db10.dbx5.0"), p(Some(10), Some("DBX"), 5, 0));
         // Bit and byte numbers are checked in analysis (HG4009, HG4010).
         assert_eq!(value("P#M50.8"), p(None, Some("M"), 50, 8));
@@ -1880,7 +1897,16 @@ mod tests {
         bad("P#", "pointer", "empty body");
         let not_addresses = "P#M50 P#MW10 P#MW10.0 P#PE1.0 P#X1.0 P#DB10.DBW4 P#DB10.DBX5 P#DB10 \
                              P#DB.DBX1.0 P#M5_0.0 P#M50.0.1 P#.0 P#1. P#T5 P#M-1.0";
-        for t in not_addresses.split_whitespace().chain(["P#M 50.0"]) {
+        let spaced = [
+            "P# M50.0",
+            "P#M 50",
+            "P#M .0",
+            "P# 0.0",
+            "P#MW 10",
+            "P#M 5 0.0",
+            "P#M\n1.0",
+        ];
+        for t in not_addresses.split_whitespace().chain(spaced) {
             bad(
                 t,
                 "pointer",

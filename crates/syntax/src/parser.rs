@@ -148,6 +148,8 @@ pub(crate) struct Parser<'t> {
     text_start: TextSize,
     /// Address of the text: a token's offset is its text's address minus this.
     base: usize,
+    /// The whole text.
+    source: &'t str,
     builder: TreeBuilder<'t>,
     errors: Vec<SyntaxError>,
     /// Number of HG0001 and HG0002 reported so far ([`Parser::recoveries`]).
@@ -267,6 +269,7 @@ impl<'t> Parser<'t> {
             text_len: offset,
             text_start: text_size(bom),
             base: text.as_ptr() as usize,
+            source: text,
             builder,
             errors,
             recoveries: 0,
@@ -467,8 +470,35 @@ impl<'t> Parser<'t> {
             let range = TextRange::at(self.offset(&token), TextSize::of(token.text));
             validation::check_constant_token(token.kind, token.text, range, &mut self.errors);
         }
+        self.advance_unchecked(token);
+    }
+
+    #[inline]
+    fn advance_unchecked(&mut self, token: Significant<'t>) {
         self.last_end = self.offset(&token) + TextSize::of(token.text);
         self.pos += 1;
+    }
+
+    /// Wraps the `n` current tokens in a node without checking a constant among them: the
+    /// caller checks the constant they form together (`P#M 100.0`).
+    pub(crate) fn bump_node_unchecked(&mut self, kind: SyntaxKind, n: usize) {
+        self.start(kind);
+        for _ in 0..n {
+            let Some(&token) = self.significant.get(self.pos) else {
+                break;
+            };
+            self.flush_trivia();
+            self.builder.push_token(token.id);
+            self.advance_unchecked(token);
+        }
+        self.finish_node();
+    }
+
+    /// The text from the start of the `first`th token to the end of the `last`th one.
+    pub(crate) fn text_between(&self, first: usize, last: usize) -> &'t str {
+        let start = usize::from(self.nth_range(first).start());
+        let end = usize::from(self.nth_range(last).end());
+        self.source.get(start..end).unwrap_or("")
     }
 
     /// Adds the current identifier as the keyword of its spelling.
@@ -572,7 +602,7 @@ impl<'t> Parser<'t> {
                     self.bump();
                     break;
                 }
-                R_ANGLE => break,
+                R_ANGLE if self.r_angle_closes() => break,
                 _ if !first && self.at_line_start_recovery_point() => break,
                 _ => self.bump(),
             }
@@ -610,7 +640,7 @@ impl<'t> Parser<'t> {
                     at_body = true;
                     break;
                 }
-                R_ANGLE => break,
+                R_ANGLE if self.r_angle_closes() => break,
                 _ if !first && self.at_line_start_recovery_point() => break,
                 _ => self.bump(),
             }
@@ -632,7 +662,7 @@ impl<'t> Parser<'t> {
         if self.at(SEMI) {
             self.bump();
         } else if self.at_eof()
-            || self.at(R_ANGLE)
+            || self.r_angle_closes()
             || self.nth_on_new_line(0)
             || stl::at_label(self)
             || can_begin(self)
@@ -664,47 +694,149 @@ impl<'t> Parser<'t> {
 
     /// An item keyword that, at statement start, closes every open block (language.md §1.4).
     pub(crate) fn at_item_start(&self) -> bool {
-        let Some(token) = self.nth_token(0) else {
+        self.nth_item_start(0)
+    }
+
+    /// Does an item begin at the `n`th token: an item keyword followed by what can continue
+    /// that item (language.md §1.4)? Otherwise the keyword is a name.
+    fn nth_item_start(&self, n: usize) -> bool {
+        let Some(token) = self.nth_token(n) else {
             return false;
         };
-        let next = self.nth(1);
         match token.keyword {
-            GRAPH_KW | GROUP_KW | CHART_KW | BLOCK_KW => matches!(next, IDENT | STRING),
-            SYMBOLS_KW => next == L_ANGLE,
-            MNEMONIC_KW => self.nth_is_kw(1, SIMATIC_KW) || self.nth_is_kw(1, INTERNATIONAL_KW),
+            GRAPH_KW | GROUP_KW | CHART_KW | BLOCK_KW => {
+                self.nth_is_name(n + 1) || self.nth(n + 1) == STRING
+            }
+            SYMBOLS_KW => self.nth_opens_body(n + 1),
+            MNEMONIC_KW => {
+                self.nth_is_kw(n + 1, SIMATIC_KW) || self.nth_is_kw(n + 1, INTERNATIONAL_KW)
+            }
             _ => false,
         }
     }
 
     /// A member keyword of `scope` at statement start (language.md §1.4).
     pub(crate) fn at_member_start(&self, scope: Scope) -> bool {
+        self.nth_member_start(0, scope)
+    }
+
+    /// Does a member of `scope` begin at the `n`th token (language.md §1.4)? Only a keyword
+    /// followed by what begins that member counts; otherwise the keyword is a name (§7).
+    fn nth_member_start(&self, n: usize, scope: Scope) -> bool {
+        let Some(token) = self.nth_token(n) else {
+            return false;
+        };
+        let named = || self.nth_is_name(n + 1) || self.nth(n + 1) == NUMBER;
+        match (scope, token.keyword) {
+            (Scope::Graph, STATE_KW) => self.nth_starts_number(n + 1),
+            (Scope::Graph, TRANS_KW) => {
+                self.nth_starts_number(n + 1)
+                    || self.nth_is_kw(n + 1, ANY_KW)
+                    || self.nth_is_kw(n + 1, RETURN_KW)
+            }
+            (Scope::Graph, ACTIVATE_KW) => self.nth_is_name(n + 1),
+            // No STL statement begins with a name and `<`: here `<` always opens the body.
+            (Scope::Graph, PERMANENT_KW | IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => {
+                self.nth(n + 1) == L_ANGLE
+            }
+            (Scope::Group, INSTANCE_KW) => {
+                self.nth(n + 1) == IDENT
+                    && self.nth(n + 2) == COLON
+                    && !(self.nth(n + 3) == EQ && self.nth_joined(n + 3))
+            }
+            (Scope::Group, OPTION_KW) => {
+                self.nth(n + 1) == IDENT
+                    && (self.nth(n + 2) == SEMI || self.nth_starts_number(n + 2))
+            }
+            (Scope::Sequencer, STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW) => named(),
+            (Scope::Sequencer, PARALLEL_KW | ALT_KW | BRANCH_KW) => self.nth_opens_body(n + 1),
+            (Scope::Chart, SEQUENCER_KW) => named(),
+            (Scope::Chart, IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => self.nth_opens_body(n + 1),
+            _ => false,
+        }
+    }
+
+    /// Is the `n`th token an identifier that can be a name: any identifier but the operators
+    /// `and`, `or`, `xor`, `not` (reserved words, language.md §7)? After a keyword, such an
+    /// operator makes the keyword a name in an expression (`step and x`).
+    fn nth_is_name(&self, n: usize) -> bool {
+        self.nth_token(n).is_some_and(|t| {
+            t.kind == IDENT && !matches!(t.keyword, AND_KW | OR_KW | XOR_KW | NOT_KW)
+        })
+    }
+
+    /// Can an operand of a chart expression begin at the `n`th token (language.md §6)?
+    pub(crate) fn nth_starts_operand(&self, n: usize) -> bool {
+        match self.nth(n) {
+            IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
+            MINUS => self.nth(n + 1) == NUMBER && self.nth_joined(n + 1),
+            _ => false,
+        }
+    }
+
+    /// Does the `<` at the `n`th token open a body after a keyword (`in <`, `parallel <`,
+    /// `symbols <`), rather than compare a variable named like the keyword in a chart
+    /// expression (`in < 5`, `in <> x`, `in <= x`)? A body begins with `>`, a declaration or
+    /// symbol `NAME :`, a block label, `branch <` or a sequencer element; a comparison with
+    /// an operand. (Looks at most four tokens ahead; no recursion.)
+    fn nth_opens_body(&self, n: usize) -> bool {
+        if self.nth(n) != L_ANGLE {
+            return false;
+        }
+        let next = n + 1;
+        let joined = self.nth_joined(next);
+        match self.nth(next) {
+            EQ if joined => false,
+            // `<>`: an empty body, unless an operand follows on the line (`in <> 5`).
+            R_ANGLE if joined => {
+                self.nth_on_new_line(next + 1) || !self.nth_starts_operand(next + 1)
+            }
+            IDENT | STRING if self.nth(next + 1) == COLON => true,
+            IDENT
+                if self.nth(next + 1) == MINUS
+                    && self.nth(next + 2) == COLON
+                    && self.nth_has(next, stl::word::LETTER_C) =>
+            {
+                true
+            }
+            IDENT => match self.nth_token(next).map_or(IDENT, |t| t.keyword) {
+                BRANCH_KW | PARALLEL_KW | ALT_KW => self.nth(next + 1) == L_ANGLE,
+                STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW => {
+                    self.nth_is_name(next + 1) || self.nth(next + 1) == NUMBER
+                }
+                _ => false,
+            },
+            _ => !self.nth_starts_operand(next),
+        }
+    }
+
+    /// Does the `>` at the current position close the block (language.md §1.3)? At statement
+    /// start it does (the callers see to the STL comparisons). Inside a statement, a `>` that
+    /// is part of a joined token (`->`, `=>`, `<>`, `>=`, `>I`) does not, nor does a `>` that
+    /// an operand follows on its line (a comparison) — unless that operand is the keyword of
+    /// an item or member that begins there (`> trans 1->2 <`).
+    pub(crate) fn r_angle_closes(&self) -> bool {
         let Some(token) = self.nth_token(0) else {
             return false;
         };
-        let next = self.nth(1);
-        match (scope, token.keyword) {
-            (Scope::Graph, STATE_KW) => self.nth_starts_number(1),
-            (Scope::Graph, TRANS_KW) => {
-                self.nth_starts_number(1)
-                    || self.nth_is_kw(1, ANY_KW)
-                    || self.nth_is_kw(1, RETURN_KW)
-            }
-            (Scope::Graph, ACTIVATE_KW) => true,
-            (Scope::Graph, PERMANENT_KW | IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => next == L_ANGLE,
-            (Scope::Group, INSTANCE_KW) => {
-                next == IDENT && self.nth(2) == COLON && self.nth(3) != EQ
-            }
-            (Scope::Group, OPTION_KW) => {
-                next == IDENT && (self.nth(2) == SEMI || self.nth_starts_number(2))
-            }
-            (Scope::Sequencer, STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW) => {
-                matches!(next, IDENT | NUMBER)
-            }
-            (Scope::Sequencer, PARALLEL_KW | ALT_KW | BRANCH_KW) => next == L_ANGLE,
-            (Scope::Chart, SEQUENCER_KW) => matches!(next, IDENT | NUMBER),
-            (Scope::Chart, IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => next == L_ANGLE,
-            _ => false,
+        if token.kind != R_ANGLE {
+            return false;
         }
+        let after_joined = token.joined
+            && self.pos > 0
+            && matches!(self.significant[self.pos - 1].kind, MINUS | EQ | L_ANGLE);
+        let before_joined =
+            self.nth_joined(1) && (self.nth(1) == EQ || self.nth_has(1, stl::word::CMP_TYPE));
+        if after_joined || before_joined {
+            return false;
+        }
+        if self.nth_on_new_line(1) || !self.nth_starts_operand(1) {
+            return true;
+        }
+        self.nth_item_start(1)
+            || [Scope::Graph, Scope::Group, Scope::Sequencer, Scope::Chart]
+                .iter()
+                .any(|&s| self.nth_member_start(1, s))
     }
 
     /// Common loop control for `< ... >` bodies: returns `true` when the body ends here —

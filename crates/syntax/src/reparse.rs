@@ -10,6 +10,8 @@
 //! * the new text parses as exactly one member of the same kind that ends with its own `>` and
 //!   has no unclosed `<` (HG0003) — a member that is not closed would swallow the members
 //!   after it in a full parse;
+//! * no token that can begin an operand follows the member on its line (whether a `>` inside
+//!   a statement closes the block depends on the token after it, language.md §1.3);
 //! * no diagnostic outside the member points into it.
 //!
 //! Otherwise [`Parse::reparse`] parses the whole file. `tests/reparse.rs` checks on random
@@ -64,7 +66,10 @@ impl Parse {
         }
         let member = enclosing_member(&root, edit.delete)?;
         let range = member.text_range();
-        if !separated_by_white_space(&member) || !follows_a_closed_member(&member) {
+        if !separated_by_white_space(&member)
+            || !follows_a_closed_member(&member)
+            || followed_on_its_line_by_an_operand(&member)
+        {
             return None;
         }
         let member_text = member.text().to_string();
@@ -133,8 +138,9 @@ fn separated_by_white_space(member: &SyntaxNode) -> bool {
     white(first.and_then(|t| t.prev_token())) && white(last.and_then(|t| t.next_token()))
 }
 
-/// Was the member before `member` closed by its own `>` or `;`? If it was closed by recovery
-/// at `member`'s keyword, a change of that keyword changes where it ends.
+/// Was the member before `member` closed by its own `>` (at statement start) or `;`? If it was
+/// closed by recovery at `member`'s keyword, or by a `>` that would not close it before an
+/// operand, a change of `member`'s first tokens changes where it ends.
 fn follows_a_closed_member(member: &SyntaxNode) -> bool {
     let Some(prev) = member
         .siblings_with_tokens(rowan::Direction::Prev)
@@ -151,12 +157,43 @@ fn follows_a_closed_member(member: &SyntaxNode) -> bool {
                 .children()
                 .filter(|c| c.kind() == BODY)
                 .last()
-                .is_some_and(|body| last_child(&body) == Some(R_ANGLE)),
+                .is_some_and(|body| {
+                    last_child(&body) == Some(R_ANGLE) && closes_at_statement_start(&body)
+                }),
             VAR_SECTION => last_child(&node) == Some(R_ANGLE),
             ACTIVATE => last_child(&node) == Some(SEMI),
             _ => false,
         },
     }
+}
+
+/// Does a token that can begin an operand follow the member on its last line? Then whether a
+/// `>` that ends the member inside a statement closes it depends on that token (language.md
+/// §1.3, `Parser::r_angle_closes`), which the member parsed alone does not see.
+fn followed_on_its_line_by_an_operand(member: &SyntaxNode) -> bool {
+    let mut token = member.last_token().and_then(|t| t.next_token());
+    while let Some(t) = token {
+        match t.kind() {
+            WHITESPACE if t.text().contains(['\n', '\r']) => return false,
+            WHITESPACE | COMMENT | LEX_ERROR => token = t.next_token(),
+            IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN | MINUS => return true,
+            kind => return kind.is_keyword(),
+        }
+    }
+    false
+}
+
+/// Does the `>` that ends `body` stand at the start of a statement (after `<`, `;` or a
+/// label)? Such a `>` closes the block whatever follows it; one inside a statement (a missing
+/// `;`) closes it only if the token after it cannot begin an operand (language.md §1.3).
+fn closes_at_statement_start(body: &SyntaxNode) -> bool {
+    let before = body
+        .last_token()
+        .and_then(|t| t.prev_token())
+        .and_then(|t| {
+            std::iter::successors(Some(t), |t| t.prev_token()).find(|t| !t.kind().is_trivia())
+        });
+    before.is_some_and(|t| matches!(t.kind(), L_ANGLE | SEMI | COLON))
 }
 
 fn ends_with_r_angle(green: &rowan::GreenNode) -> bool {

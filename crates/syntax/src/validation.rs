@@ -21,7 +21,8 @@ pub(crate) fn check_constant_token(
     push(text, range, errors);
 }
 
-/// Checks a number constant (with a joined `-`).
+/// Checks a constant of more than one token: a number with a joined `-`, or a pointer with a
+/// space after its area (`P#M 100.0`).
 pub(crate) fn check_number(text: &str, range: TextRange, errors: &mut Vec<SyntaxError>) {
     push(text, range, errors);
 }

@@ -359,11 +359,7 @@ fn assignment(p: &mut Parser<'_>) {
 
 /// Can an operand begin here (on the same line as the previous token)?
 fn at_operand(p: &Parser<'_>) -> bool {
-    match p.current() {
-        IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
-        MINUS => p.nth(1) == NUMBER && p.nth_joined(1),
-        _ => false,
-    }
+    p.nth_starts_operand(0)
 }
 
 /// `expr = xor_expr { or xor_expr }` and so on down. Returns `false` (consuming nothing) if
@@ -396,22 +392,16 @@ fn binary(p: &mut Parser<'_>, level: usize) -> bool {
 }
 
 /// Number of tokens of a comparison operator here, or 0. A lone `>` is a comparison only if
-/// an operand follows on the same line (the block rule, language.md §1.3).
+/// an operand follows on the same line (the block rule, language.md §1.3;
+/// [`Parser::r_angle_closes`]).
 fn compare_op_len(p: &Parser<'_>) -> usize {
     let joined = |kind| p.nth(1) == kind && p.nth_joined(1);
     match p.current() {
         L_ANGLE if joined(R_ANGLE) || joined(EQ) => 2,
         R_ANGLE if joined(EQ) => 2,
         EQ | L_ANGLE => 1,
-        R_ANGLE => {
-            let next_ok = !p.nth_on_new_line(1)
-                && match p.nth(1) {
-                    IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
-                    MINUS => p.nth(2) == NUMBER && p.nth_joined(2),
-                    _ => false,
-                };
-            usize::from(next_ok)
-        }
+        // A lone `>` compares only where it does not close the block.
+        R_ANGLE => usize::from(!p.r_angle_closes()),
         _ => 0,
     }
 }

@@ -7,12 +7,13 @@ use super::{Parser, Scope, lazy};
 use crate::{SyntaxKind, SyntaxKind::*};
 
 /// Address-area identifiers of both mnemonic sets (diagnostics.md Appendix A.2). The parser
-/// accepts both sets; analysis decides which is legal (HG4007).
+/// accepts both sets; analysis decides which is legal (HG4007). `DI` is the instance data
+/// block of `AUF DI 2` (HG4003 alone, as for `AUF DB 2`).
 const AREAS: &[&str] = &[
     "E", "A", "M", "L", "I", "Q", "EB", "EW", "ED", "AB", "AW", "AD", "MB", "MW", "MD", "LB", "LW",
     "LD", "IB", "IW", "ID", "QB", "QW", "QD", "PEB", "PEW", "PED", "PAB", "PAW", "PAD", "PIB",
     "PIW", "PID", "PQB", "PQW", "PQD", "PE", "PA", "PI", "PQ", "DBX", "DBB", "DBW", "DBD", "DIX",
-    "DIB", "DIW", "DID", "T", "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT",
+    "DIB", "DIW", "DID", "T", "Z", "C", "DB", "FC", "FB", "SFC", "SFB", "OB", "UDT", "DI",
 ];
 
 /// Areas that name blocks (`FC 10`, `DB 5`, `UDT 5`; language.md §3.5).
@@ -72,6 +73,15 @@ fn constant_is_valid(kind: SyntaxKind, text: &str) -> bool {
     errors.is_empty()
 }
 
+/// `P#` and what may be an area with nothing after it (`P#M`, `P#DBX`, `P#DB10.DBX`; also
+/// `P#MW`, which the check of the whole constant then reports): a pointer written with a
+/// space after the area once a number follows.
+fn is_pointer_area(text: &str) -> bool {
+    text.len() > 2
+        && text.as_bytes()[..2].eq_ignore_ascii_case(b"P#")
+        && text.ends_with(|c: char| c.is_ascii_alphabetic())
+}
+
 /// Word flags: what the grammar asks about a token's text, worked out once per distinct
 /// token when it is lexed ([`word_flags`]) and tested with [`Parser::nth_has`]. The
 /// identifier flags are set only on `IDENT` tokens, the number flags only on `NUMBER` tokens.
@@ -84,8 +94,9 @@ pub(crate) mod word {
     pub(crate) const BRACKET_OP: u16 = 1 << 2;
     /// `CALL` or `CC`.
     pub(crate) const CALL: u16 = 1 << 3;
-    /// `RND` (`RND+`, `RND-`).
-    pub(crate) const RND: u16 = 1 << 4;
+    /// A word that forms an operation with punctuation written against it: `RND` (`RND+`,
+    /// `RND-`), `MCR` (`MCR(`, `)MCR`), `AR1` and `AR2` (`+AR1`, `+AR2`).
+    pub(crate) const JOINED_OP: u16 = 1 << 4;
     /// `TRUE` or `FALSE`.
     pub(crate) const BOOL: u16 = 1 << 5;
     /// `C` (the `C-:` label).
@@ -107,6 +118,9 @@ pub(crate) mod word {
     /// A number, typed constant or character constant whose check (HG0006/HG0007) reports
     /// nothing: most constants repeat, so each distinct one is checked once.
     pub(crate) const VALID_CONSTANT: u16 = 1 << 14;
+    /// A typed constant `P#` + letters (`P#M`, `P#DBX`, `P#DB10.DBX`): the first part of a
+    /// pointer written with a space after the area (`P#M 100.0`).
+    pub(crate) const POINTER_AREA: u16 = 1 << 15;
 }
 
 /// The [`word`] flags of a token.
@@ -119,7 +133,7 @@ pub(crate) fn word_flags(kind: SyntaxKind, text: &str) -> u16 {
                 | flag(is_any(BLOCK_AREAS), word::BLOCK_AREA)
                 | flag(is_any(BRACKET_OPS), word::BRACKET_OP)
                 | flag(is_any(&["CALL", "CC"]), word::CALL)
-                | flag(is_any(&["RND"]), word::RND)
+                | flag(is_any(&["RND", "MCR", "AR1", "AR2"]), word::JOINED_OP)
                 | flag(is_any(&["TRUE", "FALSE"]), word::BOOL)
                 | flag(is_letter(text, b'C'), word::LETTER_C)
                 | flag(is_any(&["E", "C", "X"]), word::LABEL_LETTER)
@@ -133,7 +147,11 @@ pub(crate) fn word_flags(kind: SyntaxKind, text: &str) -> u16 {
                 | flag(text == "0", word::ZERO)
                 | flag(constant_is_valid(kind, text), word::VALID_CONSTANT)
         }
-        TYPED_CONST | CHAR => flag(constant_is_valid(kind, text), word::VALID_CONSTANT),
+        TYPED_CONST => {
+            flag(constant_is_valid(kind, text), word::VALID_CONSTANT)
+                | flag(is_pointer_area(text), word::POINTER_AREA)
+        }
+        CHAR => flag(constant_is_valid(kind, text), word::VALID_CONSTANT),
         _ => 0,
     }
 }
@@ -193,10 +211,14 @@ fn opcode_len(p: &Parser<'_>) -> usize {
         IDENT => {
             let bracket =
                 p.nth(1) == L_PAREN && !p.nth_on_new_line(1) && p.nth_has(0, word::BRACKET_OP);
-            let rounding =
-                matches!(p.nth(1), PLUS | MINUS) && p.nth_joined(1) && p.nth_has(0, word::RND);
-            if bracket || rounding { 2 } else { 1 }
+            // `RND+`, `RND-`, `MCR(` (HG4003).
+            let joined = matches!(p.nth(1), PLUS | MINUS | L_PAREN)
+                && p.nth_joined(1)
+                && p.nth_has(0, word::JOINED_OP);
+            if bracket || joined { 2 } else { 1 }
         }
+        // `)MCR`, `+AR1`, `+AR2` (HG4003).
+        R_PAREN | PLUS if p.nth_joined(1) && p.nth_has(1, word::JOINED_OP) => 2,
         R_PAREN | EQ => 1,
         PLUS if nth_is_cmp_type(p, 1) => 2,
         PLUS => 1,
@@ -325,9 +347,17 @@ pub(crate) fn stl_stmt(p: &mut Parser<'_>) {
     p.finish_node();
 }
 
-/// `FC 10 [, DB 10] [( P := x, ... )]`. Errors are reported and recovered here.
+/// `FC 10 [, DB 10] [( P := x, ... )]`. Errors are reported and recovered here. The
+/// parameter list may open on a later line: only the target is held to the operation's line
+/// (language.md §1.3), and no statement begins with `(`.
 fn call_args(p: &mut Parser<'_>) {
     p.start(CALL_ARGS);
+    if at_indirect(p) {
+        // `CC FC [MW 50]`: an indirect call (HG4004).
+        indirect(p);
+        p.finish_node();
+        return;
+    }
     if !block_ref(p) {
         p.error_and_recover("a block to call");
         p.finish_node();
@@ -341,7 +371,7 @@ fn call_args(p: &mut Parser<'_>) {
             return;
         }
     }
-    if p.at(L_PAREN) && !p.nth_on_new_line(0) {
+    if p.at(L_PAREN) {
         p.start(PARAM_LIST);
         p.bump();
         loop {
@@ -486,9 +516,23 @@ pub(crate) fn address_in_table(p: &mut Parser<'_>) -> bool {
     }
 }
 
+/// `P#M 100.0`: a pointer written with white space after its area (language.md §3.5) — the
+/// typed constant `P#M` and a number on its line with only spaces or tabs between.
+fn at_spaced_pointer(p: &Parser<'_>) -> bool {
+    p.nth_has(0, word::POINTER_AREA)
+        && p.nth(1) == NUMBER
+        && !p.nth_on_new_line(1)
+        && p.text_between(0, 1)
+            .bytes()
+            .skip(p.nth_text(0).len())
+            .take_while(|b| !b.is_ascii_digit())
+            .all(|b| b == b' ' || b == b'\t')
+}
+
 /// Number of tokens of a constant at the current position, or 0.
 pub(crate) fn literal_len(p: &Parser<'_>) -> usize {
     match p.current() {
+        TYPED_CONST if at_spaced_pointer(p) => 2,
         NUMBER | TYPED_CONST | CHAR => 1,
         MINUS if p.nth(1) == NUMBER && p.nth_joined(1) => 2,
         IDENT if p.nth_has(0, word::BOOL) => 1,
@@ -502,6 +546,18 @@ pub(crate) fn literal(p: &mut Parser<'_>) -> bool {
     let n = literal_len(p);
     if n == 0 {
         return false;
+    }
+    if n == 2 && p.at(TYPED_CONST) {
+        // `P#M 100.0`: checked as one constant.
+        let text = p.text_between(0, 1);
+        let range = rowan::TextRange::new(p.nth_range(0).start(), p.nth_range(1).end());
+        let mut errors = Vec::new();
+        crate::validation::check_number(text, range, &mut errors);
+        for error in errors {
+            p.push_error(error);
+        }
+        p.bump_node_unchecked(LITERAL, 2);
+        return true;
     }
     // A lone number is known to be valid or not (`word::VALID_CONSTANT`).
     let is_number = p.at(NUMBER) || p.at(MINUS);
@@ -538,15 +594,14 @@ pub(crate) fn operand(p: &mut Parser<'_>) -> bool {
     if literal(p) {
         return true;
     }
+    if at_indirect(p) {
+        indirect(p);
+        return true;
+    }
     match p.current() {
-        // `MW [MD 10]`, `E [AR1, P#0.0]`: memory- and register-indirect operands.
-        IDENT if p.nth(1) == L_BRACK && !p.nth_on_new_line(1) && p.nth_has(0, word::AREA) => {
-            indirect(p)
-        }
         HASH if p.nth(1) == IDENT && p.nth_joined(1) => p.bump_node(VAR_REF, 2),
         STRING => p.bump_node(SYMBOL_REF, 1),
         IDENT => p.bump_node(NAME_REF, 1),
-        L_BRACK => indirect(p),
         EQ | L_ANGLE | R_ANGLE => {
             let n = status_len(p);
             if n == 0 {
@@ -569,6 +624,24 @@ fn status_len(p: &Parser<'_>) -> usize {
         L_ANGLE | R_ANGLE if joined(1, EQ) && zero_at(2) => 3,
         L_ANGLE | R_ANGLE if zero_at(1) => 2,
         _ => 0,
+    }
+}
+
+/// `[...]`, or an area or a size letter (`B`, `W`, `D`) and `[...]` on its line: `MW [MD 10]`,
+/// `E [AR1, P#0.0]`, `W [AR1,P#2.0]`, `B[AR1,P#0.0]`, `FC [MW 50]` — memory- and
+/// register-indirect operands (HG4004; diagnostics.md §2.8).
+fn at_indirect(p: &Parser<'_>) -> bool {
+    match p.current() {
+        L_BRACK => true,
+        // The text is looked at only before a `[`, which is rare.
+        IDENT if p.nth(1) == L_BRACK && !p.nth_on_new_line(1) => {
+            p.nth_has(0, word::AREA)
+                || matches!(
+                    p.nth_text(0).as_bytes(),
+                    [b'B' | b'W' | b'D' | b'b' | b'w' | b'd']
+                )
+        }
+        _ => false,
     }
 }
 

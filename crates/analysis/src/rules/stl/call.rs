@@ -47,6 +47,12 @@ pub(super) fn check(ctx: &mut Ctx<'_>, scope: &mut GraphScope, call: &Call<'_>) 
         ctx.push(diag);
         return true;
     };
+    // `CC FC [MW 50]`: an indirect target is HG4004 alone (C4).
+    if let Some(indirect) = args.syntax().children().find_map(ast::Indirect::cast) {
+        let operand = ast::Operand::Indirect(indirect);
+        statement::forbidden_operand(ctx, scope, &operand);
+        return false;
+    }
     let params: Vec<ast::Param> = args.params().collect();
     for param in &params {
         if let Some(value) = param.value()

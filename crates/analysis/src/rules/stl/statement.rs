@@ -48,21 +48,23 @@ pub(super) fn check(
     if let Some(label) = stmt.jump_label() {
         let diag = ctx.diag("HG4003", label.syntax().text_range(), JUMP_MESSAGE);
         ctx.push(diag);
-        return None;
+        // Not analysed further (C4), but its brackets still count for HG4006: the label
+        // does not take the statement out of its block.
+        let opcode = stmt.opcode()?;
+        let written = written_opcode(&opcode);
+        let op = match lang::classify_op(&written, ctx.mnemonic) {
+            OpClass::Subset(op) | OpClass::OtherSet { simatic: op, .. } => op,
+            OpClass::Outside(_) | OpClass::Unknown => return None,
+        };
+        return Some(Analyzed {
+            op,
+            display: written,
+            opcode_range: opcode.syntax().text_range(),
+        });
     }
     let opcode = stmt.opcode()?;
     let opcode_range = opcode.syntax().text_range();
     let written = written_opcode(&opcode);
-    if let Some(range) = split_outside_op(stmt, &opcode) {
-        let text = ctx_text(stmt, range);
-        let diag = ctx.diag(
-            "HG4003",
-            range,
-            format!("'{text}' is not part of the HiGraph STL subset"),
-        );
-        ctx.push(diag);
-        return None;
-    }
     let (op, other_set_op) = match lang::classify_op(&written, ctx.mnemonic) {
         OpClass::Subset(op) => (op, None),
         OpClass::OtherSet {
@@ -224,45 +226,6 @@ fn unknown_operation(ctx: &mut Ctx<'_>, range: TextRange, written: &str) {
     let ops = lang::subset_ops(ctx.mnemonic);
     diag = ctx.with_closest_fix(diag, range, written, ops.iter().map(String::as_str));
     ctx.push(diag);
-}
-
-/// Operations of Appendix A.3 that the parser splits: `MCR(` (`MCR` and a stray `(`), `)MCR`
-/// (`)` with the operand `MCR`), `+AR1` and `+AR2` (`+` with a register operand). Returns
-/// their range.
-fn split_outside_op(stmt: &ast::StlStmt, opcode: &ast::Opcode) -> Option<TextRange> {
-    let range = opcode.syntax().text_range();
-    let text = opcode.text();
-    if text == "MCR" {
-        let paren = stmt
-            .syntax()
-            .descendants_with_tokens()
-            .filter_map(|e| e.into_token())
-            .find(|t| t.kind() == SyntaxKind::L_PAREN && t.text_range().start() == range.end())?;
-        return Some(range.cover(paren.text_range()));
-    }
-    let joined_word = |word: &str| match stmt.operand() {
-        Some(ast::Operand::NameRef(name))
-            if name.text().eq_ignore_ascii_case(word)
-                && name.syntax().text_range().start() == range.end() =>
-        {
-            Some(range.cover(name.syntax().text_range()))
-        }
-        _ => None,
-    };
-    match text.as_str() {
-        ")" => joined_word("MCR"),
-        "+" => joined_word("AR1").or_else(|| joined_word("AR2")),
-        _ => None,
-    }
-}
-
-/// The text of a range inside a statement.
-fn ctx_text(stmt: &ast::StlStmt, range: TextRange) -> String {
-    let node_range = stmt.syntax().text_range();
-    let text = stmt.syntax().text().to_string();
-    let start = usize::from(range.start() - node_range.start());
-    let end = usize::from(range.end() - node_range.start());
-    text.get(start..end).unwrap_or_default().to_owned()
 }
 
 /// The opcode as written, without white space (`U(` for `U (`), case kept.
