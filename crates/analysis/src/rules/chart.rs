@@ -39,7 +39,7 @@
 //!   a rule of STL statements).
 //! * The address rules HG4009–HG4012 apply to chart addresses too; HG1204, HG1213 and HG1215
 //!   to chart variables (as in graphs).
-//! * HG1203 names the variable's section as written (`in_out` too: a chart has no messages).
+//! * HG1203 in every section (`in_out` too: a chart has no messages); its message says so.
 
 pub(crate) mod decls;
 mod exprs;

@@ -220,10 +220,20 @@ fn check_msg(
             .diag(
                 "HG1203",
                 msg.syntax().text_range(),
-                format!(
-                    "message variables belong in 'in_out'; '{name}' is in '{}'",
-                    section.as_str()
-                ),
+                match owner {
+                    Owner::Graph => format!(
+                        "message variables belong in 'in_out'; '{name}' is in '{}'",
+                        section.as_str()
+                    ),
+                    Owner::Chart => format!(
+                        "message variables belong in the 'in_out' section of a graph; \
+                         '{name}' is declared in a chart"
+                    ),
+                    Owner::BlockInterface => format!(
+                        "message variables belong in the 'in_out' section of a graph; \
+                         '{name}' is declared in a block interface"
+                    ),
+                },
             )
             .fix(
                 "Remove the 'msg' clause",

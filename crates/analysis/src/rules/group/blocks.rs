@@ -125,7 +125,11 @@ fn check_clause(ctx: &mut Ctx<'_>, clause: Clause, reference: &ast::BlockRef) {
             let Some(kind) = target_kind(&target, ctx.mnemonic) else {
                 return;
             };
-            format!("'{written}' is not an {upper}: it is {kind}")
+            let article = match clause {
+                Clause::Fc => "an",
+                Clause::Db => "a",
+            };
+            format!("'{written}' is not {article} {upper}: it is {kind}")
         }
     };
     let diag = ctx.diag("HG8005", range, message);
