@@ -158,9 +158,15 @@ fn instance_header(node: &ast::Instance) -> Option<TextRange> {
     (start <= end).then(|| TextRange::new(start, end))
 }
 
+/// The `Inst.Msg` actuals of the group. A later instance of a duplicated name is ignored (C3):
+/// its actuals send nothing.
 fn collect_senders(instances: &[InstanceInfo<'_>]) -> Vec<Sender> {
     let mut senders = Vec::new();
+    let mut seen = HashSet::new();
     for instance in instances {
+        if !seen.insert(index::key(&instance.name)) {
+            continue;
+        }
         for actual in instance.node.actuals() {
             let Some(ast::Operand::MessageTarget(target)) = actual.value() else {
                 continue;
