@@ -74,8 +74,18 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
     let mut scope = Scope::new(info, vars);
     let chart_props = props::check_props(ctx, &scope.chart);
     props::check_sequencers(ctx, &scope.chart);
+    let mut seen = std::collections::HashSet::new();
     for sequencer in chart.sequencers() {
+        let later = sequencer
+            .name()
+            .is_some_and(|n| !seen.insert(crate::index::key(&n.text())));
+        let reported = ctx.out.diags.len();
         check_sequencer(ctx, &mut scope, &chart_props, &sequencer);
+        if later {
+            // C3: a later sequencer of a name is reported (HG7105) and otherwise ignored; the
+            // variables it names still count as used (HG1210).
+            ctx.out.diags.truncate(reported);
+        }
     }
     decls::report_unused(ctx, &scope);
 }

@@ -134,7 +134,14 @@ pub(crate) fn check_item(
         return ItemAnalysis::default();
     };
     let mut ctx = Ctx::for_item(db, ws, item);
-    match ast::Item::cast(root) {
+    let item_node = ast::Item::cast(root);
+    let name = match &item_node {
+        Some(ast::Item::Graph(graph)) => graph.name(),
+        Some(ast::Item::Group(group)) => group.name(),
+        Some(ast::Item::Chart(chart)) => chart.name(),
+        _ => None,
+    };
+    match item_node {
         Some(ast::Item::Graph(graph)) => check_graph(&mut ctx, item, &graph),
         Some(ast::Item::Group(group)) => {
             names::check_group(&mut ctx, &group);
@@ -155,7 +162,25 @@ pub(crate) fn check_item(
         }
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
+    if is_later_duplicate(&ctx, name) {
+        // C3: a graph, group or chart whose name an earlier one already has is reported
+        // (HG1301, workspace-wide) and otherwise ignored; the symbols it names still count as
+        // used (HG6004), as for a duplicate instance.
+        ctx.out.diags.clear();
+    }
     ctx.out
+}
+
+/// Is the item being checked a graph, group or chart whose name an earlier graph, group or
+/// chart of the workspace already has?
+fn is_later_duplicate(ctx: &Ctx<'_>, name: Option<ast::Name>) -> bool {
+    let Some(name) = name else {
+        return false;
+    };
+    ctx.index
+        .items_named(&name.text())
+        .next()
+        .is_some_and(|first| !(first.file == ctx.file && first.item == ctx.item))
 }
 
 /// A graph: its names and declarations from its own tree; its structure from its member
