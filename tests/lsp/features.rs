@@ -373,6 +373,59 @@ fn quick_fixes_are_code_actions_with_their_diagnostic() {
     assert_eq!(server.shutdown_and_exit(), 0);
 }
 
+/// Of "Replace with 'Oben'" and "Declare 'Obenx'", the replacement is the preferred fix (what
+/// a client applies on "auto fix"); a completion inserting `#Ab` is filtered by `Ab`, the text
+/// the user types for it.
+#[test]
+fn the_likely_fix_is_preferred_and_completions_carry_their_filter_text() {
+    let tree = TempTree::new();
+    let text = "graph A <\n  in < Oben : BOOL; >\n  out < Ab : BOOL; >\n  state 0 < C: U Obenx; = Ab; >\n  trans any->0 < U INIT_SD; >\n>\n";
+    tree.file("a.higraph", text);
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("a.higraph");
+    server.drain(std::time::Duration::from_millis(200));
+    let (line, column) = find(text, "state 0", "Obenx");
+    let range = json!({"start": {"line": line, "character": column},
+                       "end": {"line": line, "character": column + 5}});
+    let actions = server
+        .request(
+            "textDocument/codeAction",
+            json!({"textDocument": {"uri": uri}, "range": range, "context": {"diagnostics": []}}),
+        )
+        .expect("code actions");
+    let actions = actions.as_array().expect("a list");
+    let preferred: Vec<&Value> = actions
+        .iter()
+        .filter(|a| a["isPreferred"] == true)
+        .collect();
+    assert_eq!(preferred.len(), 1, "{actions:?}");
+    assert_eq!(preferred[0]["title"], "Replace with 'Oben'", "{actions:?}");
+    assert!(
+        actions.iter().any(|a| a["title"]
+            .as_str()
+            .is_some_and(|t| t.starts_with("Declare"))
+            && a.get("isPreferred").is_none()),
+        "{actions:?}"
+    );
+
+    server.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": uri, "languageId": "higraph", "version": 1, "text": text}}),
+    );
+    let (line, column) = find(text, "state 0", "Ab;");
+    let result = server
+        .request(
+            "textDocument/completion",
+            position(&uri, (line, column + 1)),
+        )
+        .expect("completions");
+    let items = result.as_array().expect("a list");
+    let ab = items.iter().find(|i| i["label"] == "Ab").expect("Ab");
+    assert_eq!(ab["textEdit"]["newText"], "#Ab", "{ab}");
+    assert_eq!(ab["filterText"], "Ab", "{ab}");
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
 #[test]
 fn render_request_returns_an_svg_and_refuses_unknown_names() {
     let tree = drilling();

@@ -3,8 +3,9 @@
 //! * [`Analysis::code_actions`] offers one action per quick fix of every diagnostic of the file
 //!   whose range touches the requested range — the fixes of `diagnostics.md` §3, as the rules
 //!   attach them to their diagnostics ([`crate::Fix`]). Suppressed and switched-off
-//!   diagnostics offer nothing, because [`crate::check`] has removed them. An action whose
-//!   diagnostic has a single fix is marked preferred (the editor's "auto fix").
+//!   diagnostics offer nothing, because [`crate::check`] has removed them. The most likely fix
+//!   of a diagnostic is marked preferred (the editor's "auto fix"): its only fix, or else the
+//!   replacement with the closest existing name ([`crate::Fix::preferred`]).
 //! * [`Analysis::format_edits`] turns the canonical layout of [`crate::format::format`] into
 //!   edits: one per run of changed lines, found by a line diff of the old and the new text.
 
@@ -29,7 +30,7 @@ pub struct CodeAction {
     pub diagnostic: Diagnostic,
     /// The edits, possibly in several files.
     pub edit: SourceChange,
-    /// The only fix of its diagnostic.
+    /// The most likely fix of its diagnostic ([`crate::Fix::preferred`]).
     pub is_preferred: bool,
 }
 
@@ -76,7 +77,6 @@ impl Analysis {
 
 /// One action per fix of `diagnostic`.
 fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
-    let preferred = diagnostic.fixes.len() == 1;
     diagnostic
         .fixes
         .iter()
@@ -107,7 +107,7 @@ fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
                 diagnostic_range: Some(diagnostic.range),
                 diagnostic: diagnostic.clone(),
                 edit: SourceChange { files: by_file },
-                is_preferred: preferred,
+                is_preferred: fix.preferred,
             }
         })
         .collect()
@@ -320,6 +320,18 @@ graph Ventil <
         ), @r#"
         Rename to 'Oben' [HG5101] preferred at Some("Obn")
           group.higraph: "group Gr fc FC 1 db DB 1 <\n  instance V : Ventil < Oben := E 0.0; Unten := E 0.1; >\n>\n"
+        "#);
+    }
+
+    #[test]
+    fn the_closest_name_is_preferred_over_a_new_declaration() {
+        insta::assert_snapshot!(actions(
+            "graph G <\n  in < Oben : BOOL; >\n  state 0 < C: U $0Obenx; >\n  trans any->0 < U INIT_SD; >\n>\n"
+        ), @r#"
+        Replace with 'Oben' [HG4101] preferred at Some("Obenx")
+          main.higraph: "graph G <\n  in < Oben : BOOL; >\n  state 0 < C: U Oben; >\n  trans any->0 < U INIT_SD; >\n>\n"
+        Declare 'Obenx : BOOL;' in 'in' [HG4101] at Some("Obenx")
+          main.higraph: "graph G <\n  in < Oben : BOOL; Obenx : BOOL; >\n  state 0 < C: U Obenx; >\n  trans any->0 < U INIT_SD; >\n>\n"
         "#);
     }
 

@@ -93,7 +93,9 @@ impl Ctx<'_> {
         candidates: impl IntoIterator<Item = &'c str>,
     ) -> Diag {
         match crate::closest::closest(written, candidates) {
-            Some(best) => diag.fix(format!("Replace with '{best}'"), self.loc(range), best),
+            Some(best) => diag
+                .fix(format!("Replace with '{best}'"), self.loc(range), best)
+                .preferred(),
             None => diag,
         }
     }

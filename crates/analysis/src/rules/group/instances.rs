@@ -470,7 +470,9 @@ fn report_not_a_formal(
             .formal_names()
             .filter(|f| !written_formals.contains(&index::key(f)));
         if let Some(best) = closest(written, free) {
-            diag = diag.fix(format!("Rename to '{best}'"), ctx.loc(range), best);
+            diag = diag
+                .fix(format!("Rename to '{best}'"), ctx.loc(range), best)
+                .preferred();
         }
     }
     ctx.push(diag);
