@@ -115,7 +115,9 @@ fn check_sequencer(
         walker.element_body(&element);
     }
     let mut writes = Vec::with_capacity(tree.elems.len());
-    for elem in &tree.elems {
+    let later = names::later_duplicates(&tree);
+    for (elem, &later) in tree.elems.iter().zip(&later) {
+        let reported = walker.ctx.out.diags.len();
         let node = elem.node.syntax();
         let mut step_writes = Vec::new();
         match &elem.node {
@@ -128,6 +130,11 @@ fn check_sequencer(
                 walker.conditions(node);
             }
             ast::SeqElement::Parallel(_) | ast::SeqElement::Alt(_) => {}
+        }
+        if later {
+            // C3: a later step or transition of a name (HG7103) is otherwise ignored; the
+            // variables it names still count as used (HG1210).
+            walker.ctx.out.diags.truncate(reported);
         }
         writes.push(step_writes);
     }

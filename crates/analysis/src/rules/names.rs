@@ -131,13 +131,8 @@ fn transition_name(element: &ast::SeqElement) -> Option<Option<ast::Name>> {
 pub(crate) fn check_symbols(ctx: &mut Ctx<'_>, table: &ast::Symbols) {
     for symbol in table.symbols() {
         // A later symbol of a name is reported (HG6003, HG1301) and otherwise ignored (C3).
-        let name = symbol.name();
-        let later = name.as_ref().and_then(|n| {
-            let first = ctx.index.symbol(&n.text())?;
-            Some(first.name_loc != ctx.loc(n.token()?.text_range()))
-        });
-        if later != Some(true) {
-            check_name(ctx, name, &Namespace::Global);
+        if !super::is_later_symbol(ctx, &symbol) {
+            check_name(ctx, symbol.name(), &Namespace::Global);
         }
     }
 }
