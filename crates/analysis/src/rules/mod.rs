@@ -241,7 +241,7 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     }
     // Each chunk was merged at its start, so the places are item-relative already; placing
     // at offset 0 only ends their being marked member-relative.
-    let duplicates = duplicate_states(db, &layout);
+    let duplicates = duplicate_states(db, layout);
     ctx.out.diags.extend(
         found
             .diags
