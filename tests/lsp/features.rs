@@ -117,6 +117,44 @@ fn rename_reaches_files_that_are_not_open() {
     assert_eq!(server.shutdown_and_exit(), 0);
 }
 
+/// Renaming a formal from the group (`Oben     := Bohrer_Oben;`) to a longer name keeps the
+/// actuals of the instance aligned: a formatted workspace stays formatted.
+#[test]
+fn rename_keeps_the_workspace_formatted() {
+    let tree = drilling();
+    assert!(tree.fmt_check(), "the example is formatted");
+    let mut server = Server::indexed(&tree.path());
+    let group = "bohrmaschine.higraph";
+    let at = find(&text(&tree, group), "instance", "Oben     :=");
+    let mut params = position(&tree.uri(group), at);
+    params["newName"] = json!("Oben_Endlage");
+    let edit = server
+        .request("textDocument/rename", params)
+        .expect("a workspace edit");
+    let changes = edit["changes"].as_object().expect("changes by URI");
+    assert!(changes.len() >= 2, "{edit}");
+    for relative in [
+        "bohrmaschine.higraph",
+        "graphs/ventil_2e.higraph",
+        "graphs/bohren.higraph",
+        "graphs/motor.higraph",
+        "graphs/spanner.higraph",
+    ] {
+        if let Some(edits) = changes.get(&tree.uri(relative)) {
+            let edits = edits.as_array().expect("edits");
+            let renamed = apply_edits(&text(&tree, relative), edits);
+            tree.file(relative, renamed);
+        }
+    }
+    assert!(
+        text(&tree, group).contains("Oben_Endlage := Bohrer_Oben;"),
+        "{}",
+        text(&tree, group)
+    );
+    assert!(tree.fmt_check(), "{}", text(&tree, group));
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
 #[test]
 fn an_invalid_new_name_is_refused_with_a_message_and_no_edit() {
     let tree = drilling();
