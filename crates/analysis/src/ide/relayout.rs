@@ -10,7 +10,8 @@
 //! * an item that was not formatted, or whose new text cannot be formatted (a syntax error),
 //!   keeps the edits as they are.
 //!
-//! The difference is kept small, one edit per run of changed lines with the common start and
+//! Texts above [`MAX_RELAYOUT_LEN`] are not formatted (the edits stay as they are). The
+//! difference is kept small, one edit per run of changed lines with the common start and
 //! end of each run left out, so an editor applies a few small edits, not a new file. This is
 //! done when an edit is asked for ([`crate::Analysis::rename`], [`crate::Analysis::code_actions`]),
 //! not for the fixes every diagnostic carries.
@@ -22,6 +23,12 @@ use crate::{
     db::{File, Workspace},
     format,
 };
+
+/// The largest text (a file, or an item) that is formatted to re-lay-out an edit. Formatting
+/// costs time proportional to the text at best, and code actions are asked for at every
+/// cursor move. A larger file is re-laid-out item by item; a larger item (a generated graph of
+/// thousands of members) keeps its edits as they are.
+const MAX_RELAYOUT_LEN: usize = 32 * 1024;
 
 /// `change` with the files it edits re-laid-out as described in the module documentation.
 pub(crate) fn keep_formatted(
@@ -44,7 +51,7 @@ pub(crate) fn keep_formatted(
 #[salsa::tracked]
 pub(crate) fn is_formatted(db: &dyn salsa::Database, file: File) -> bool {
     let text = file.contents(db).text();
-    format::format(text).is_ok_and(|formatted| formatted == text)
+    text.len() <= MAX_RELAYOUT_LEN && format::format(text).is_ok_and(|formatted| formatted == text)
 }
 
 /// The re-laid-out edits of one file; `None` to keep the edits as they are.
@@ -94,6 +101,9 @@ fn relayout_items(old: &str, edits: &[Edit]) -> Option<Vec<Edit>> {
 /// The edits of one item, re-laid-out if the item was formatted on its own.
 fn relayout_item(old: &str, item: TextRange, edits: &[Edit]) -> Option<Vec<Edit>> {
     let item_old = old.get(std::ops::Range::<usize>::from(item))?;
+    if item_old.len() > MAX_RELAYOUT_LEN {
+        return None;
+    }
     let formatted = format::format(item_old).ok()?;
     if formatted.strip_suffix('\n').unwrap_or(&formatted) != item_old {
         return None;
