@@ -58,6 +58,17 @@ impl TempTree {
         file_uri(&self.path().join(relative))
     }
 
+    /// Does `higraph-lsp fmt --check` find every file of the tree formatted?
+    pub fn fmt_check(&self) -> bool {
+        Command::new(binary())
+            .args(["fmt", "--check", "."])
+            .current_dir(self.path())
+            .output()
+            .expect("the binary runs")
+            .status
+            .success()
+    }
+
     /// Runs `higraph-lsp check --format json` in the tree.
     pub fn check_json(&self) -> Value {
         let output = Command::new(binary())

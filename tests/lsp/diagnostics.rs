@@ -149,7 +149,9 @@ fn rich_workspace() -> TempTree {
         "// Pumpe für Öl 😀\ngraph Pumpe <\n  in < Ungenutzt : BOOL; >\n  state 0 < C: U Motor; >\n  trans any->0 < U INIT_SD; >\n>\n",
     )
     .file(
-        "graphs/doppelt.higraph",
+        // After `ventil.higraph` in workspace order: the later graph Ventil is the duplicate
+        // (HG1301) and is otherwise ignored (C3), so the first keeps its own diagnostics.
+        "zusatz/doppelt.higraph",
         "graph Ventil <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n",
     );
     tree
@@ -208,12 +210,12 @@ fn edits_keep_diagnostics_equal_to_check_on_the_same_content() {
     let mut text = std::fs::read_to_string(tree.path().join(path)).expect("read");
     open(&mut server, &uri, &text);
 
-    // Rename the graph to a name another file uses (HG1301 in both files), and use the
-    // variable (its HG1210 goes away); then a lexer error as the last edit, which only
+    // Rename the graph to a name an earlier file uses (HG1301 here, and the graph is
+    // otherwise ignored, C3), and use the variable; then a lexer error as the last edit, which only
     // changes this file's diagnostics: once it is published, every earlier publication
     // has arrived.
     let edits = [
-        ([1, 6, 1, 11], "Ventil"),
+        ([1, 6, 1, 11], "Anlage"),
         ([3, 23, 3, 23], " U Ungenutzt;"),
         ([5, 1, 5, 1], " $"),
     ];

@@ -117,6 +117,44 @@ fn rename_reaches_files_that_are_not_open() {
     assert_eq!(server.shutdown_and_exit(), 0);
 }
 
+/// Renaming a formal from the group (`Oben     := Bohrer_Oben;`) to a longer name keeps the
+/// actuals of the instance aligned: a formatted workspace stays formatted.
+#[test]
+fn rename_keeps_the_workspace_formatted() {
+    let tree = drilling();
+    assert!(tree.fmt_check(), "the example is formatted");
+    let mut server = Server::indexed(&tree.path());
+    let group = "bohrmaschine.higraph";
+    let at = find(&text(&tree, group), "instance", "Oben     :=");
+    let mut params = position(&tree.uri(group), at);
+    params["newName"] = json!("Oben_Endlage");
+    let edit = server
+        .request("textDocument/rename", params)
+        .expect("a workspace edit");
+    let changes = edit["changes"].as_object().expect("changes by URI");
+    assert!(changes.len() >= 2, "{edit}");
+    for relative in [
+        "bohrmaschine.higraph",
+        "graphs/ventil_2e.higraph",
+        "graphs/bohren.higraph",
+        "graphs/motor.higraph",
+        "graphs/spanner.higraph",
+    ] {
+        if let Some(edits) = changes.get(&tree.uri(relative)) {
+            let edits = edits.as_array().expect("edits");
+            let renamed = apply_edits(&text(&tree, relative), edits);
+            tree.file(relative, renamed);
+        }
+    }
+    assert!(
+        text(&tree, group).contains("Oben_Endlage := Bohrer_Oben;"),
+        "{}",
+        text(&tree, group)
+    );
+    assert!(tree.fmt_check(), "{}", text(&tree, group));
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
 #[test]
 fn an_invalid_new_name_is_refused_with_a_message_and_no_edit() {
     let tree = drilling();
@@ -370,6 +408,59 @@ fn quick_fixes_are_code_actions_with_their_diagnostic() {
 
     tree.file("a.higraph", &fixed);
     assert_eq!(tree.check_json()["summary"]["errors"], 0, "{fixed}");
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+/// Of "Replace with 'Oben'" and "Declare 'Obenx'", the replacement is the preferred fix (what
+/// a client applies on "auto fix"); a completion inserting `#Ab` is filtered by `Ab`, the text
+/// the user types for it.
+#[test]
+fn the_likely_fix_is_preferred_and_completions_carry_their_filter_text() {
+    let tree = TempTree::new();
+    let text = "graph A <\n  in < Oben : BOOL; >\n  out < Ab : BOOL; >\n  state 0 < C: U Obenx; = Ab; >\n  trans any->0 < U INIT_SD; >\n>\n";
+    tree.file("a.higraph", text);
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("a.higraph");
+    server.drain(std::time::Duration::from_millis(200));
+    let (line, column) = find(text, "state 0", "Obenx");
+    let range = json!({"start": {"line": line, "character": column},
+                       "end": {"line": line, "character": column + 5}});
+    let actions = server
+        .request(
+            "textDocument/codeAction",
+            json!({"textDocument": {"uri": uri}, "range": range, "context": {"diagnostics": []}}),
+        )
+        .expect("code actions");
+    let actions = actions.as_array().expect("a list");
+    let preferred: Vec<&Value> = actions
+        .iter()
+        .filter(|a| a["isPreferred"] == true)
+        .collect();
+    assert_eq!(preferred.len(), 1, "{actions:?}");
+    assert_eq!(preferred[0]["title"], "Replace with 'Oben'", "{actions:?}");
+    assert!(
+        actions.iter().any(|a| a["title"]
+            .as_str()
+            .is_some_and(|t| t.starts_with("Declare"))
+            && a.get("isPreferred").is_none()),
+        "{actions:?}"
+    );
+
+    server.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": uri, "languageId": "higraph", "version": 1, "text": text}}),
+    );
+    let (line, column) = find(text, "state 0", "Ab;");
+    let result = server
+        .request(
+            "textDocument/completion",
+            position(&uri, (line, column + 1)),
+        )
+        .expect("completions");
+    let items = result.as_array().expect("a list");
+    let ab = items.iter().find(|i| i["label"] == "Ab").expect("Ab");
+    assert_eq!(ab["textEdit"]["newText"], "#Ab", "{ab}");
+    assert_eq!(ab["filterText"], "Ab", "{ab}");
     assert_eq!(server.shutdown_and_exit(), 0);
 }
 

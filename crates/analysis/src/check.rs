@@ -177,6 +177,30 @@ fn convert(
     let file_id = |file: &File| ids.get(file).copied().unwrap_or(FileId(0));
     let rule = registry::rule_of(diag.code.as_str());
     debug_assert!(rule.is_some(), "unregistered code {}", diag.code);
+    let mut fixes: Vec<Fix> = diag
+        .fixes
+        .iter()
+        .filter_map(|fix| {
+            let edits = match &fix.rename_to {
+                Some(new_name) => rename_edits(db, ws, fix, new_name, ids)?,
+                None => fix
+                    .edits
+                    .iter()
+                    .map(|(loc, new_text)| TextEdit {
+                        file: file_id(&loc.file),
+                        range: db::absolute_range(db, loc),
+                        new_text: new_text.clone(),
+                    })
+                    .collect(),
+            };
+            Some(Fix {
+                title: fix.title.clone(),
+                edits,
+                preferred: fix.preferred,
+            })
+        })
+        .collect();
+    mark_preferred(&mut fixes);
     Diagnostic {
         code: diag.code,
         severity,
@@ -191,33 +215,22 @@ fn convert(
                 message: message.clone(),
             })
             .collect(),
-        fixes: diag
-            .fixes
-            .iter()
-            .filter_map(|fix| {
-                let edits = match &fix.rename_to {
-                    Some(new_name) => rename_edits(db, ws, fix, new_name, ids)?,
-                    None => fix
-                        .edits
-                        .iter()
-                        .map(|(loc, new_text)| TextEdit {
-                            file: file_id(&loc.file),
-                            range: db::absolute_range(db, loc),
-                            new_text: new_text.clone(),
-                        })
-                        .collect(),
-                };
-                Some(Fix {
-                    title: fix.title.clone(),
-                    edits,
-                })
-            })
-            .collect(),
+        fixes,
         tags: if diag.unnecessary {
             vec![DiagnosticTag::Unnecessary]
         } else {
             Vec::new()
         },
+    }
+}
+
+/// At most one fix of a diagnostic is preferred: the first one a rule marked, else the only one.
+fn mark_preferred(fixes: &mut [Fix]) {
+    let only = fixes.len() == 1;
+    let mut found = false;
+    for fix in fixes.iter_mut() {
+        fix.preferred = (fix.preferred || only) && !found;
+        found |= fix.preferred;
     }
 }
 

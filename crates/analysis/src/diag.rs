@@ -81,6 +81,10 @@ pub struct DiagFix {
     /// file — replace `edits`, and the fix is dropped if the engine refuses the new name.
     /// An item's analysis cannot see the other files; this defers that part.
     pub rename_to: Option<String>,
+    /// The most likely fix of its diagnostic (LSP `isPreferred`, the editor's "auto fix"):
+    /// a replacement with the closest existing name. Whatever the rules mark, the only fix of
+    /// a diagnostic is preferred too ([`crate::check`]).
+    pub preferred: bool,
 }
 
 /// A diagnostic of a rule, before severities, suppressions and absolute positions.
@@ -118,7 +122,16 @@ impl Diag {
             title: title.into(),
             edits: vec![(at, new_text.into())],
             rename_to: None,
+            preferred: false,
         });
+        self
+    }
+
+    /// Marks the last fix added as the most likely one ([`DiagFix::preferred`]).
+    pub fn preferred(mut self) -> Diag {
+        if let Some(fix) = self.fixes.last_mut() {
+            fix.preferred = true;
+        }
         self
     }
 
@@ -129,6 +142,7 @@ impl Diag {
             title: title.into(),
             edits: vec![(at, new_name.to_owned())],
             rename_to: Some(new_name.to_owned()),
+            preferred: false,
         });
         self
     }
@@ -179,6 +193,7 @@ impl Diag {
             title: title.into(),
             edits,
             rename_to: None,
+            preferred: false,
         });
         self
     }

@@ -118,6 +118,9 @@ pub struct Fix {
     pub title: String,
     /// The edits, applied together.
     pub edits: Vec<TextEdit>,
+    /// The most likely fix of its diagnostic (at most one is): the only fix, or else a
+    /// replacement with the closest existing name. Editors apply it on "auto fix".
+    pub preferred: bool,
 }
 
 /// One diagnostic, independent of any editor protocol. The file it belongs to is known to
@@ -190,6 +193,7 @@ impl Diagnostic {
                             new_text: edit.new_text.clone(),
                         })
                         .collect(),
+                    preferred: error.fixes.len() == 1,
                 })
                 .collect(),
             tags: Vec::new(),

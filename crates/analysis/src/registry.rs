@@ -1038,7 +1038,7 @@ pub const RULES: &[Rule] = &[
         "HG8005",
         Severity::Error,
         false,
-        "'{x}' is not an {FC/DB}: {reason}",
+        "'{x}' is not {an FC/a DB}: {reason}",
     ),
     rule(
         "HG8006",

@@ -393,7 +393,9 @@ fn resolve_var_ref<'a>(
             let mut diag = ctx.diag("HG4101", out.range, message);
             let candidates = variable_candidates(scope);
             if let Some(best) = closest::closest(name, candidates.iter().map(String::as_str)) {
-                diag = diag.fix(format!("Replace with '#{best}'"), ctx.loc(reference), best);
+                diag = diag
+                    .fix(format!("Replace with '#{best}'"), ctx.loc(reference), best)
+                    .preferred();
             }
             diag = declare_fix(ctx, scope, diag, name, usage.implied);
             ctx.push(diag);
@@ -426,7 +428,9 @@ fn resolve_symbol_ref<'a>(
             let index = ctx.index;
             let symbols = index.symbols.iter().map(|s| s.name.as_str());
             if let Some(best) = closest::closest(name, symbols) {
-                diag = diag.fix(format!("Replace with \"{best}\""), ctx.loc(reference), best);
+                diag = diag
+                    .fix(format!("Replace with \"{best}\""), ctx.loc(reference), best)
+                    .preferred();
             }
             ctx.push(diag);
         }
@@ -485,7 +489,9 @@ fn resolve_name<'a>(
             candidates.extend(index.symbols.iter().map(|s| s.name.clone()));
             if let Some(best) = closest::closest(name, candidates.iter().map(String::as_str)) {
                 let text = lang::operand_spelling(best);
-                diag = diag.fix(format!("Replace with '{text}'"), ctx.loc(reference), text);
+                diag = diag
+                    .fix(format!("Replace with '{text}'"), ctx.loc(reference), text)
+                    .preferred();
             }
             diag = declare_fix(ctx, scope, diag, name, usage.implied);
             ctx.push(diag);

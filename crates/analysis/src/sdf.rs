@@ -5,7 +5,9 @@
 //! * HG6005: a file that is missing, unreadable or not an `.sdf` export is reported on its
 //!   entry in `higraph.toml`; a line that cannot be read is reported on that line and skipped.
 //! * HG6007: a data type this language does not know (a UDT, ARRAY, STRUCT, ...) is imported
-//!   untyped.
+//!   untyped. A block symbol's data type names a block (`FB 10`, or `FB` alone as the DIF
+//!   layout writes it) and makes it a block.
+//! * A row of a variable table (`VAT 1` in the address column) is skipped: it is no operand.
 //!
 //! Addresses are read in the workspace's mnemonic set; those of the other set are translated.
 //! Lines end at LF, CR LF or a lone CR. The rules on the imported symbols themselves (HG6001,
@@ -161,7 +163,9 @@ fn parse_table(
             )
         };
         match parse_line(line, mnemonic) {
-            Ok(line) => {
+            // A variable table (VAT) names no operand: nothing to import.
+            Ok(None) => {}
+            Ok(Some(line)) => {
                 if let Some(type_text) = &line.unsupported_type {
                     table.problems.push(Diag::new(
                         "HG6007",
@@ -212,18 +216,23 @@ struct Line {
     comment: Option<String>,
 }
 
-/// Reads one line: four quoted fields — symbol, address, data type, comment.
-fn parse_line(text: &str, mnemonic: Mnemonic) -> Result<Line, String> {
+/// Reads one line: four quoted fields — symbol, address, data type, comment. `None` for a row
+/// that names a variable table (`"Beobachtung","VAT     1",...`): STEP 7 lists them among the
+/// symbols, but they are no operand of a program.
+fn parse_line(text: &str, mnemonic: Mnemonic) -> Result<Option<Line>, String> {
     let fields = split_fields(text)?;
     let [name, address, data_type_field, comment] = <[Field; 4]>::try_from(fields)
         .map_err(|fields| format!("expected 4 fields, found {}", fields.len()))?;
     if name.text.is_empty() {
         return Err("the symbol name is empty".to_owned());
     }
+    if is_vat(&address.text) {
+        return Ok(None);
+    }
     let address_value = read_address(&address.text, mnemonic)?;
     let (ty, unsupported_type) = data_type(&data_type_field.text, &address_value, mnemonic);
     let typed = !data_type_field.text.is_empty();
-    Ok(Line {
+    Ok(Some(Line {
         name: name.text,
         name_range: name.range,
         address: address_value,
@@ -234,7 +243,7 @@ fn parse_line(text: &str, mnemonic: Mnemonic) -> Result<Line, String> {
         type_range: typed.then_some(data_type_field.range),
         type_text: typed.then_some(data_type_field.text),
         comment: (!comment.text.is_empty()).then_some(comment.text),
-    })
+    }))
 }
 
 /// Reads the address field in the workspace's set; addresses of the other set are
@@ -277,18 +286,27 @@ fn data_type(text: &str, address: &Address, mnemonic: Mnemonic) -> (Option<Type>
     }
 }
 
-/// `FC 1`, `UDT 5`, `VAT 1`: the data type STEP 7 exports for block symbols.
+/// `FC 1`, `UDT 5`, `VAT 1`: the data type STEP 7 exports for block symbols (for an instance
+/// DB, its FB; for a shared DB, the DB itself or its UDT). Exports in the DIF layout write the
+/// block kind alone (`FB`, `DB`, `SFC`, ...); it is read the same way.
 fn is_block_reference(text: &str, mnemonic: Mnemonic) -> bool {
     let compact: String = text.split_whitespace().collect();
-    let is_vat = compact
-        .get(..3)
-        .is_some_and(|p| p.eq_ignore_ascii_case("VAT"))
-        && compact.len() > 3
-        && compact[3..].bytes().all(|b| b.is_ascii_digit());
-    is_vat
+    const KINDS: [&str; 8] = ["OB", "FC", "FB", "DB", "SFC", "SFB", "UDT", "VAT"];
+    KINDS.iter().any(|k| compact.eq_ignore_ascii_case(k))
+        || is_vat(&compact)
         || address::read(&compact, mnemonic)
             .and_then(|r| r.address.ok())
             .is_some_and(|a| a.block_kind().is_some())
+}
+
+/// `VAT 1`, `VAT1`: a variable table.
+fn is_vat(text: &str) -> bool {
+    let compact: String = text.split_whitespace().collect();
+    compact
+        .get(..3)
+        .is_some_and(|p| p.eq_ignore_ascii_case("VAT"))
+        && compact.len() > 3
+        && compact[3..].bytes().all(|b| b.is_ascii_digit())
 }
 
 /// A type name of the language, `STRING[n]` included.
@@ -385,21 +403,71 @@ mod tests {
     #[test]
     fn reads_lines_of_both_mnemonic_sets() {
         let set = Mnemonic::Simatic;
-        let line = parse_line(r#""Motor","Q   4.0","BOOL","""#, set).expect("line");
+        let line = parse_line(r#""Motor","Q   4.0","BOOL","""#, set)
+            .expect("line")
+            .expect("a symbol");
         assert_eq!(line.address.display(set), "A 4.0");
         assert_eq!(line.ty, Some(Type::Bool));
-        let block = parse_line(r#""GG","FC   1","FC   1","""#, set).expect("line");
+        let block = parse_line(r#""GG","FC   1","FC   1","""#, set)
+            .expect("line")
+            .expect("a symbol");
         assert_eq!(
             (block.ty, block.unsupported_type),
             (Some(Type::Block), None)
         );
-        let udt = parse_line(r#""Rezept","MD 20","UDT 7","""#, set).expect("line");
+        let udt = parse_line(r#""Rezept","MD 20","UDT 7","""#, set)
+            .expect("line")
+            .expect("a symbol");
         assert_eq!(udt.ty, None);
         assert_eq!(udt.unsupported_type.as_deref(), Some("UDT 7"));
-        let untyped = parse_line(r#""Wert","MW 2","","""#, set).expect("line");
+        let untyped = parse_line(r#""Wert","MW 2","","""#, set)
+            .expect("line")
+            .expect("a symbol");
         assert_eq!(untyped.ty, Some(Type::Word));
         assert!(parse_line(r#""Band","A 4.1","BOOL""#, set).is_err());
         assert!(parse_line(r#""Band","X 4.1","BOOL","""#, set).is_err());
         assert!(parse_line(r#""","A 4.1","BOOL","""#, set).is_err());
+    }
+
+    /// Block rows as STEP 7 exports them: every block kind in the address column, the data
+    /// type in the ASC form (`FB 10`) or the DIF form (`FB`); variable tables are skipped.
+    #[test]
+    fn reads_block_rows_as_step7_exports_them() {
+        let set = Mnemonic::Simatic;
+        let rows = [
+            r#""Cycle Execution ","OB    1","OB    1","Main program""#,
+            r#""Motor_Steuerung ","FB   10","FB   10","""#,
+            r#""Motor_DB        ","DB   10","FB   10","instance DB""#,
+            r#""Motor_DB2       ","DB   11","FB","instance DB (DIF)""#,
+            r#""Rezept          ","DB   20","DB","shared DB (DIF)""#,
+            r#""Rezept2         ","DB   21","UDT   5","""#,
+            r#""Rezepttyp       ","UDT    5","UDT    5","""#,
+            r#""TEST_DATE       ","SFC    1","SFC","read clock""#,
+            r#""ALARM           ","SFB   33","SFB   33","""#,
+            r#""Lauf            ","FC    3","FC","""#,
+        ];
+        for row in rows {
+            let line = parse_line(row, set)
+                .unwrap_or_else(|e| panic!("{row}: {e}"))
+                .unwrap_or_else(|| panic!("{row}: skipped"));
+            assert_eq!(
+                (line.ty, line.unsupported_type),
+                (Some(Type::Block), None),
+                "{row}"
+            );
+            assert!(line.address.block_kind().is_some(), "{row}");
+        }
+        for vat in [
+            r#""Beobachtung","VAT     1","VAT     1","""#,
+            r#""Beobachtung","VAT1","","""#,
+            r#""Beobachtung","vat 2","VAT","""#,
+        ] {
+            assert_eq!(parse_line(vat, set), Ok(None), "{vat}");
+        }
+        // A bare block kind is a block type only on a block symbol.
+        let bit = parse_line(r#""Band","A 4.1","FB","""#, set)
+            .expect("line")
+            .expect("a symbol");
+        assert_eq!(bit.unsupported_type.as_deref(), Some("FB"));
     }
 }

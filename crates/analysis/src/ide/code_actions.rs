@@ -3,8 +3,10 @@
 //! * [`Analysis::code_actions`] offers one action per quick fix of every diagnostic of the file
 //!   whose range touches the requested range — the fixes of `diagnostics.md` §3, as the rules
 //!   attach them to their diagnostics ([`crate::Fix`]). Suppressed and switched-off
-//!   diagnostics offer nothing, because [`crate::check`] has removed them. An action whose
-//!   diagnostic has a single fix is marked preferred (the editor's "auto fix").
+//!   diagnostics offer nothing, because [`crate::check`] has removed them. The most likely fix
+//!   of a diagnostic is marked preferred (the editor's "auto fix"): its only fix, or else the
+//!   replacement with the closest existing name ([`crate::Fix::preferred`]).
+//!   Each fix is re-laid-out so that a formatted file stays formatted ([`super::relayout`]).
 //! * [`Analysis::format_edits`] turns the canonical layout of [`crate::format::format`] into
 //!   edits: one per run of changed lines, found by a line diff of the old and the new text.
 
@@ -12,7 +14,7 @@ use higraph_syntax::{TextRange, TextSize};
 
 use crate::{
     Analysis, Cancellable, Diagnostic, check, format,
-    ide::{Edit, SourceChange},
+    ide::{Edit, SourceChange, relayout},
 };
 
 /// A quick fix for a diagnostic.
@@ -29,7 +31,7 @@ pub struct CodeAction {
     pub diagnostic: Diagnostic,
     /// The edits, possibly in several files.
     pub edit: SourceChange,
-    /// The only fix of its diagnostic.
+    /// The most likely fix of its diagnostic ([`crate::Fix::preferred`]).
     pub is_preferred: bool,
 }
 
@@ -49,6 +51,11 @@ impl Analysis {
                 .iter()
                 .filter(|d| d.range.intersect(range).is_some())
                 .flat_map(|d| actions_of(d, &paths))
+                .map(|mut action| {
+                    // A formatted file stays formatted (`relayout`).
+                    action.edit = relayout::keep_formatted(db, ws, action.edit);
+                    action
+                })
                 .collect()
         })
     }
@@ -76,7 +83,6 @@ impl Analysis {
 
 /// One action per fix of `diagnostic`.
 fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
-    let preferred = diagnostic.fixes.len() == 1;
     diagnostic
         .fixes
         .iter()
@@ -107,7 +113,7 @@ fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
                 diagnostic_range: Some(diagnostic.range),
                 diagnostic: diagnostic.clone(),
                 edit: SourceChange { files: by_file },
-                is_preferred: preferred,
+                is_preferred: fix.preferred,
             }
         })
         .collect()
@@ -121,7 +127,7 @@ const MAX_DIFF_CELLS: usize = 4_000_000;
 
 /// Edits that turn `old` into `new`, one per run of changed lines (line endings included in
 /// the comparison).
-fn line_diff(old: &str, new: &str) -> Vec<Edit> {
+pub(crate) fn line_diff(old: &str, new: &str) -> Vec<Edit> {
     if old == new {
         return Vec::new();
     }
@@ -323,6 +329,18 @@ graph Ventil <
         "#);
     }
 
+    #[test]
+    fn the_closest_name_is_preferred_over_a_new_declaration() {
+        insta::assert_snapshot!(actions(
+            "graph G <\n  in < Oben : BOOL; >\n  state 0 < C: U $0Obenx; >\n  trans any->0 < U INIT_SD; >\n>\n"
+        ), @r#"
+        Replace with 'Oben' [HG4101] preferred at Some("Obenx")
+          main.higraph: "graph G <\n  in < Oben : BOOL; >\n  state 0 < C: U Oben; >\n  trans any->0 < U INIT_SD; >\n>\n"
+        Declare 'Obenx : BOOL;' in 'in' [HG4101] at Some("Obenx")
+          main.higraph: "graph G <\n  in < Oben : BOOL; Obenx : BOOL; >\n  state 0 < C: U Obenx; >\n  trans any->0 < U INIT_SD; >\n>\n"
+        "#);
+    }
+
     // -------------------------------------------------------------------------- fixtures
 
     use crate::fixture_workspace::{fixture_files, load_fixture as load};
@@ -422,10 +440,6 @@ graph Ventil <
                         problems.push(format!("{what}: not offered"));
                         continue;
                     };
-                    let edit_count: usize = action.edit.files.iter().map(|(_, e)| e.len()).sum();
-                    if edit_count != fix.edits.len() {
-                        problems.push(format!("{what}: edits lost"));
-                    }
                     // Apply the action to the fixture's files and analyse the result.
                     let mut fixed = files.clone();
                     for (edit_path, edits) in &action.edit.files {
@@ -434,6 +448,48 @@ graph Ventil <
                             continue;
                         };
                         *body = apply(&String::from_utf8_lossy(body), edits).into_bytes();
+                    }
+                    // The action does what the fix's own edits do, re-laid-out where it
+                    // keeps a formatted file formatted (`relayout`).
+                    let mut plain = files.clone();
+                    let mut by_file: Vec<(String, Vec<Edit>)> = Vec::new();
+                    for e in &fix.edits {
+                        let p = &out_files[e.file.0 as usize].path;
+                        let edit = Edit {
+                            range: e.range,
+                            new_text: e.new_text.clone(),
+                        };
+                        match by_file.iter_mut().find(|(q, _)| q == p) {
+                            Some((_, edits)) => edits.push(edit),
+                            None => by_file.push((p.clone(), vec![edit])),
+                        }
+                    }
+                    for (edit_path, edits) in &mut by_file {
+                        edits.sort_by_key(|e| e.range.start());
+                        if let Some((_, body)) = plain.iter_mut().find(|(p, _)| p == edit_path) {
+                            *body = apply(&String::from_utf8_lossy(body), edits).into_bytes();
+                        }
+                    }
+                    for ((p, ours), (_, theirs)) in fixed.iter().zip(&plain) {
+                        let formatted = |bytes: &[u8]| {
+                            std::str::from_utf8(bytes)
+                                .ok()
+                                .and_then(|t| crate::format::format(t).ok())
+                        };
+                        // Where the file cannot be formatted as a whole (an item was), the
+                        // texts agree up to white space and letter case.
+                        let squeezed = |bytes: &[u8]| -> String {
+                            String::from_utf8_lossy(bytes)
+                                .split_whitespace()
+                                .collect::<String>()
+                                .to_ascii_lowercase()
+                        };
+                        let same = ours == theirs
+                            || formatted(theirs).is_some_and(|t| Some(t) == formatted(ours))
+                            || squeezed(ours) == squeezed(theirs);
+                        if !same {
+                            problems.push(format!("{what}: {p} differs from the fix's edits"));
+                        }
                     }
                     if limit {
                         continue;

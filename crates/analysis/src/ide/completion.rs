@@ -57,6 +57,12 @@ pub struct CompletionItem {
     pub documentation: Option<String>,
     /// The text to insert when it is not the label; LSP snippet syntax when `is_snippet`.
     pub insert_text: Option<String>,
+    /// What a client filters by when the inserted text is not the label: the text the user
+    /// types for this proposal in the replaced range. That is the label: `Ab` for a variable
+    /// inserted as `#Ab` (a `#` the user typed is not part of the replaced word), `Not Aus`
+    /// for a symbol inserted as `"Not Aus"`, `Start` for a formal inserted as `Start := `. A
+    /// client that filters by the inserted text would drop these proposals otherwise.
+    pub filter_text: Option<String>,
     /// `insert_text` uses snippet syntax (`${1:name}`, `$0`).
     pub is_snippet: bool,
     /// The text the proposal replaces: the word being typed, or an empty range at the cursor.
@@ -1021,6 +1027,7 @@ impl Proposals {
             detail: None,
             documentation: None,
             insert_text: None,
+            filter_text: None,
             is_snippet: false,
             replace_range: self.range,
             sort_text: Some(sort_text),
@@ -1045,6 +1052,15 @@ impl Proposals {
     }
 
     fn finish(mut self) -> Vec<CompletionItem> {
+        for item in &mut self.items {
+            if item
+                .insert_text
+                .as_ref()
+                .is_some_and(|insert| *insert != item.label)
+            {
+                item.filter_text = Some(item.label.clone());
+            }
+        }
         self.items.sort_by(|a, b| a.sort_text.cmp(&b.sort_text));
         self.items
     }
@@ -2221,6 +2237,62 @@ Symbol Oben · E 0.2 BOOL ⇒ "Oben"
 "#);
         let f = fixture::load(&valve("  state 5 < C: U Ob$0"));
         assert_eq!(f.slice("main.higraph", items[0].replace_range), "Ob");
+    }
+
+    /// A proposal whose inserted text is not the label carries the text the user types for
+    /// it as its filter text, whether or not the typed word is complete: `A` or `Ab` for a
+    /// variable inserted as `#Ab`; after a `#` nothing extra is inserted.
+    #[test]
+    fn filter_text_is_what_the_user_types() {
+        let filter = |tail: &str, label: &str| {
+            let items = complete(&valve(tail));
+            let item = items
+                .iter()
+                .find(|i| i.label == label)
+                .unwrap_or_else(|| panic!("no {label} in {}", render(&items)));
+            (item.insert_text.clone(), item.filter_text.clone())
+        };
+        let some = |s: &str| Some(s.to_owned());
+        assert_eq!(
+            filter("  state 5 < C: = A$0 >", "Ab"),
+            (some("#Ab"), some("Ab"))
+        );
+        assert_eq!(
+            filter("  state 5 < C: = Ab$0 >", "Ab"),
+            (some("#Ab"), some("Ab"))
+        );
+        assert_eq!(filter("  state 5 < C: = #A$0 >", "Ab"), (None, None));
+        assert_eq!(filter("  state 5 < C: U A$0 >", "Auf"), (None, None));
+        assert_eq!(
+            filter("  state 5 < C: U No$0 >", "Not Aus"),
+            (some("\"Not Aus\""), some("Not Aus"))
+        );
+        // Every proposal's filter text matches what was typed in its replaced range.
+        for tail in [
+            "  state 5 < C: U $0 >",
+            "  state 5 < C: = A$0 >",
+            "  state 5 < C: U Ob$0",
+        ] {
+            let f = fixture::load(&valve(tail));
+            let items = f
+                .host
+                .analysis()
+                .completions(&f.position)
+                .unwrap_or_default();
+            for item in &items {
+                let typed = f.slice(
+                    "main.higraph",
+                    higraph_syntax::TextRange::new(item.replace_range.start(), f.position.offset),
+                );
+                let filter = item.filter_text.as_ref().unwrap_or(&item.label);
+                assert!(super::matches_typed(filter, typed), "{tail}: {item:?}");
+                assert_eq!(
+                    item.filter_text.is_some(),
+                    item.insert_text.is_some(),
+                    "{item:?}"
+                );
+            }
+        }
     }
 
     #[test]

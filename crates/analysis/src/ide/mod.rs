@@ -31,6 +31,7 @@ mod highlights;
 mod hover;
 mod inlay_hints;
 mod references;
+pub(crate) mod relayout;
 pub(crate) mod rename;
 mod semantic_tokens;
 mod symbols;

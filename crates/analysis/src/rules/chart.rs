@@ -39,7 +39,7 @@
 //!   a rule of STL statements).
 //! * The address rules HG4009–HG4012 apply to chart addresses too; HG1204, HG1213 and HG1215
 //!   to chart variables (as in graphs).
-//! * HG1203 names the variable's section as written (`in_out` too: a chart has no messages).
+//! * HG1203 in every section (`in_out` too: a chart has no messages); its message says so.
 
 pub(crate) mod decls;
 mod exprs;
@@ -74,8 +74,18 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
     let mut scope = Scope::new(info, vars);
     let chart_props = props::check_props(ctx, &scope.chart);
     props::check_sequencers(ctx, &scope.chart);
+    let mut seen = std::collections::HashSet::new();
     for sequencer in chart.sequencers() {
+        let later = sequencer
+            .name()
+            .is_some_and(|n| !seen.insert(crate::index::key(&n.text())));
+        let reported = ctx.out.diags.len();
         check_sequencer(ctx, &mut scope, &chart_props, &sequencer);
+        if later {
+            // C3: a later sequencer of a name is reported (HG7105) and otherwise ignored; the
+            // variables it names still count as used (HG1210).
+            ctx.out.diags.truncate(reported);
+        }
     }
     decls::report_unused(ctx, &scope);
 }
@@ -105,7 +115,9 @@ fn check_sequencer(
         walker.element_body(&element);
     }
     let mut writes = Vec::with_capacity(tree.elems.len());
-    for elem in &tree.elems {
+    let later = names::later_duplicates(&tree);
+    for (elem, &later) in tree.elems.iter().zip(&later) {
+        let reported = walker.ctx.out.diags.len();
         let node = elem.node.syntax();
         let mut step_writes = Vec::new();
         match &elem.node {
@@ -118,6 +130,11 @@ fn check_sequencer(
                 walker.conditions(node);
             }
             ast::SeqElement::Parallel(_) | ast::SeqElement::Alt(_) => {}
+        }
+        if later {
+            // C3: a later step or transition of a name (HG7103) is otherwise ignored; the
+            // variables it names still count as used (HG1210).
+            walker.ctx.out.diags.truncate(reported);
         }
         writes.push(step_writes);
     }

@@ -98,8 +98,8 @@ pub(crate) fn check_block_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInt
 
 /// HG1201, HG1203–HG1206, HG1213 and HG1215 for every declaration of the sections; returns
 /// the variables in declaration order. `owner_text` is the `{owner}` of messages (`graph G`,
-/// `chart C`, `block FC 10`). `each` is called for every declared name right after HG1201
-/// (graphs report HG1202 there).
+/// `chart C`, `block FC 10`). `each` is called for every declared name that is not a later
+/// duplicate, right after HG1201 (graphs report HG1202 there).
 pub(crate) fn check_sections(
     ctx: &mut Ctx<'_>,
     sections: impl IntoIterator<Item = ast::VarSection>,
@@ -132,11 +132,14 @@ pub(crate) fn check_sections(
             first.insert(index::key(&name), vars.len());
         }
         let duplicate = earlier.is_some();
-        each(ctx, &decl, &name, name_range);
+        // C3: a later duplicate is reported (HG1201) and otherwise ignored.
+        if !duplicate {
+            each(ctx, &decl, &name, name_range);
+        }
         // C1: a broken declaration still declares its name; its other parts are not checked.
-        let broken = has_error(decl.syntax());
-        let ty = checked_type(ctx, &decl, owner, !broken);
-        if !broken {
+        let checked = !has_error(decl.syntax()) && !duplicate;
+        let ty = checked_type(ctx, &decl, owner, checked);
+        if checked {
             check_msg(ctx, &decl, &name, section, owner, ty);
             if let Some(ty) = ty {
                 check_initial_value(ctx, &decl, ty);
@@ -220,10 +223,20 @@ fn check_msg(
             .diag(
                 "HG1203",
                 msg.syntax().text_range(),
-                format!(
-                    "message variables belong in 'in_out'; '{name}' is in '{}'",
-                    section.as_str()
-                ),
+                match owner {
+                    Owner::Graph => format!(
+                        "message variables belong in 'in_out'; '{name}' is in '{}'",
+                        section.as_str()
+                    ),
+                    Owner::Chart => format!(
+                        "message variables belong in the 'in_out' section of a graph; \
+                         '{name}' is declared in a chart"
+                    ),
+                    Owner::BlockInterface => format!(
+                        "message variables belong in the 'in_out' section of a graph; \
+                         '{name}' is declared in a block interface"
+                    ),
+                },
             )
             .fix(
                 "Remove the 'msg' clause",

@@ -93,7 +93,9 @@ impl Ctx<'_> {
         candidates: impl IntoIterator<Item = &'c str>,
     ) -> Diag {
         match crate::closest::closest(written, candidates) {
-            Some(best) => diag.fix(format!("Replace with '{best}'"), self.loc(range), best),
+            Some(best) => diag
+                .fix(format!("Replace with '{best}'"), self.loc(range), best)
+                .preferred(),
             None => diag,
         }
     }
@@ -134,7 +136,8 @@ pub(crate) fn check_item(
         return ItemAnalysis::default();
     };
     let mut ctx = Ctx::for_item(db, ws, item);
-    match ast::Item::cast(root) {
+    let item_node = ast::Item::cast(root);
+    match item_node.clone() {
         Some(ast::Item::Graph(graph)) => check_graph(&mut ctx, item, &graph),
         Some(ast::Item::Group(group)) => {
             names::check_group(&mut ctx, &group);
@@ -155,7 +158,47 @@ pub(crate) fn check_item(
         }
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
+    if is_later_duplicate(&ctx, item_node.as_ref()) {
+        // C3: a graph, group or chart whose name an earlier one already has (HG1301), or a
+        // second `block` item for a block (HG4310), is reported (workspace-wide) and otherwise
+        // ignored; the symbols it names still count as used (HG6004), as for a duplicate
+        // instance.
+        ctx.out.diags.clear();
+    }
     ctx.out
+}
+
+/// Is `symbol` (of the item being checked) a later declaration of a symbol name (C3)?
+pub(crate) fn is_later_symbol(ctx: &Ctx<'_>, symbol: &ast::Symbol) -> bool {
+    let Some(name) = symbol.name() else {
+        return false;
+    };
+    let Some(token) = name.token() else {
+        return false;
+    };
+    ctx.index
+        .symbol(&name.text())
+        .is_some_and(|first| first.name_loc != ctx.loc(token.text_range()))
+}
+
+/// Is the item being checked a graph, group or chart whose name an earlier graph, group or
+/// chart of the workspace already has, or a `block` item for a block that an earlier one
+/// describes (HG4310)?
+fn is_later_duplicate(ctx: &Ctx<'_>, item: Option<&ast::Item>) -> bool {
+    let name = match item {
+        Some(ast::Item::Graph(graph)) => graph.name(),
+        Some(ast::Item::Group(group)) => group.name(),
+        Some(ast::Item::Chart(chart)) => chart.name(),
+        Some(ast::Item::BlockInterface(_)) => return symbols::is_later_interface(ctx),
+        _ => None,
+    };
+    let Some(name) = name else {
+        return false;
+    };
+    ctx.index
+        .items_named(&name.text())
+        .next()
+        .is_some_and(|first| !(first.file == ctx.file && first.item == ctx.item))
 }
 
 /// A graph: its names and declarations from its own tree; its structure from its member
@@ -198,9 +241,14 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     }
     // Each chunk was merged at its start, so the places are item-relative already; placing
     // at offset 0 only ends their being marked member-relative.
-    ctx.out
-        .diags
-        .extend(found.diags.iter().map(|d| d.place_member(0.into())));
+    let duplicates = duplicate_states(db, layout);
+    ctx.out.diags.extend(
+        found
+            .diags
+            .iter()
+            .filter(|d| !duplicates.iter().any(|r| r.contains_range(d.at.range)))
+            .map(|d| d.place_member(0.into())),
+    );
     ctx.out.used_symbols.extend(found.used_symbols);
     let mut scope = scope.clone();
     for (used, here) in scope.used_vars.iter_mut().zip(&found.used_vars) {
@@ -208,6 +256,31 @@ fn check_graph(ctx: &mut Ctx<'_>, item: ItemLoc<'_>, graph: &ast::Graph) {
     }
     scope.used_predefined.extend(found.used_predefined);
     stl::report_unused(ctx, &scope);
+}
+
+/// The ranges (relative to the item) of the states whose number an earlier state has
+/// (HG2101): C3 ignores them, so their STL findings are dropped; the variables they use still
+/// count as used (HG1210).
+fn duplicate_states(db: &dyn salsa::Database, layout: &db::GraphLayout<'_>) -> Vec<TextRange> {
+    let facts: Vec<_> = layout
+        .chunks
+        .iter()
+        .map(|&chunk| db::chunk_facts(db, chunk))
+        .collect();
+    let mut seen = std::collections::HashSet::new();
+    let mut ranges = Vec::new();
+    for ((&chunk, &start), facts) in layout.chunks.iter().zip(&layout.offsets).zip(&facts) {
+        for ((green, offset), fact) in chunk.members(db).iter().zip(facts.iter()) {
+            if let MemberFacts::State(state) = fact
+                && state.number.is_some()
+                && !seen.insert(state.key.as_str())
+            {
+                let len = green.0.text_len();
+                ranges.push(TextRange::at(start + *offset, len));
+            }
+        }
+    }
+    ranges
 }
 
 /// The structure rules of a graph on its member facts ([`db::graph_structure`]).

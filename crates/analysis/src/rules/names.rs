@@ -13,6 +13,8 @@
 //! every file, exactly as the editor's rename would — and are dropped where it refuses the new
 //! name. Names that are not identifiers (quoted symbols, numeric step names) are exempt.
 
+use std::collections::HashSet;
+
 use higraph_syntax::{SyntaxKind, SyntaxToken, ast, ast::AstNode};
 
 use super::Ctx;
@@ -53,8 +55,9 @@ pub(crate) fn check_group(ctx: &mut Ctx<'_>, group: &ast::Group) {
         .map(|n| n.text())
         .collect();
     let namespace = Namespace::Instance(instances);
+    let mut seen = HashSet::new();
     for instance in group.instances() {
-        check_name(ctx, instance.name(), &namespace);
+        check_first_name(ctx, instance.name(), &namespace, &mut seen);
     }
 }
 
@@ -69,9 +72,11 @@ pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
         .map(|n| n.text())
         .collect();
     let namespace = Namespace::Sequencer(sequencer_names);
+    let mut seen = HashSet::new();
     for sequencer in &sequencers {
-        check_name(ctx, sequencer.name(), &namespace);
-        check_sequencer_elements(ctx, sequencer);
+        if check_first_name(ctx, sequencer.name(), &namespace, &mut seen) {
+            check_sequencer_elements(ctx, sequencer);
+        }
     }
 }
 
@@ -98,15 +103,16 @@ fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
         Namespace::Step(steps),
         Namespace::ChartTransition(transitions),
     );
+    let (mut seen_steps, mut seen_transitions) = (HashSet::new(), HashSet::new());
     for element in &elements {
-        let (name, ns) = match element {
-            ast::SeqElement::Step(s) => (s.name(), &steps),
+        let (name, ns, seen) = match element {
+            ast::SeqElement::Step(s) => (s.name(), &steps, &mut seen_steps),
             _ => match transition_name(element) {
-                Some(name) => (name, &transitions),
+                Some(name) => (name, &transitions, &mut seen_transitions),
                 None => continue,
             },
         };
-        check_name(ctx, name, ns);
+        check_first_name(ctx, name, ns, seen);
     }
 }
 
@@ -124,7 +130,10 @@ fn transition_name(element: &ast::SeqElement) -> Option<Option<ast::Name>> {
 /// Checks the symbols written as a NAME (quoted symbols are exempt).
 pub(crate) fn check_symbols(ctx: &mut Ctx<'_>, table: &ast::Symbols) {
     for symbol in table.symbols() {
-        check_name(ctx, symbol.name(), &Namespace::Global);
+        // A later symbol of a name is reported (HG6003, HG1301) and otherwise ignored (C3).
+        if !super::is_later_symbol(ctx, &symbol) {
+            check_name(ctx, symbol.name(), &Namespace::Global);
+        }
     }
 }
 
@@ -147,9 +156,28 @@ fn check_variables(
         .map(|n| n.text())
         .collect();
     let namespace = namespace(names);
+    let mut seen = HashSet::new();
     for decl in &decls {
-        check_name(ctx, decl.name(), &namespace);
+        check_first_name(ctx, decl.name(), &namespace, &mut seen);
     }
+}
+
+/// [`check_name`] for the first declaration of a name in its namespace (`seen` holds the
+/// names so far); a later duplicate is reported by its own rule and otherwise ignored (C3).
+/// Returns whether the name was the first.
+fn check_first_name(
+    ctx: &mut Ctx<'_>,
+    name: Option<ast::Name>,
+    ns: &Namespace,
+    seen: &mut HashSet<String>,
+) -> bool {
+    if let Some(name) = &name
+        && !seen.insert(crate::index::key(&name.text()))
+    {
+        return false;
+    }
+    check_name(ctx, name, ns);
+    true
 }
 
 /// HG1101–HG1103 for one declared name.

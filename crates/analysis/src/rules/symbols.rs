@@ -41,6 +41,22 @@ pub(crate) fn check_block_interface(ctx: &mut Ctx<'_>, interface: &ast::BlockInt
     blocks::check_interface(ctx, interface);
 }
 
+/// Is the item being checked a `block` item for a block that an earlier `block` item already
+/// describes (HG4310; ignored otherwise, C3)?
+pub(crate) fn is_later_interface(ctx: &Ctx<'_>) -> bool {
+    let targets = blocks::block_interface_addresses(ctx.db, ctx.ws);
+    let Some(this) = targets
+        .iter()
+        .find(|t| t.file == ctx.file && t.item == ctx.item)
+    else {
+        return false;
+    };
+    targets
+        .iter()
+        .find(|t| t.address == this.address)
+        .is_some_and(|first| !(first.file == this.file && first.item == this.item))
+}
+
 /// Workspace-wide rules: HG1301, HG6002, HG6003, HG6004, HG4310, and HG6001/HG6006 for
 /// imported symbols.
 pub(crate) fn check_workspace(db: &dyn salsa::Database, ws: Workspace, out: &mut Vec<Diag>) {

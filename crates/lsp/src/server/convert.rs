@@ -3,9 +3,9 @@
 //! The only module that knows both sides (`diagnostics.md` §1.5).
 
 use higraph_analysis::ide::{
-    CompletionItem, CompletionKind, DocumentSymbol, Edit, Fold, FoldKind, HighlightKind, Hover,
-    InlayHint, InlayKind, NavigationTarget, SemanticToken, SymbolKind, TOKEN_KINDS,
-    TOKEN_MODIFIERS,
+    CodeAction, CompletionItem, CompletionKind, DocumentSymbol, Edit, Fold, FoldKind,
+    HighlightKind, Hover, InlayHint, InlayKind, NavigationTarget, SemanticToken, SymbolKind,
+    TOKEN_KINDS, TOKEN_MODIFIERS,
 };
 use higraph_analysis::{
     DiagnosticTag, LineIndex, Position, PositionEncoding, Severity, TextRange, TextSize,
@@ -259,6 +259,7 @@ pub(crate) fn completion_item(
         detail: item.detail.clone(),
         documentation: item.documentation.clone().map(lsp::Documentation::String),
         sort_text: item.sort_text.clone(),
+        filter_text: item.filter_text.clone(),
         insert_text_format: Some(if item.is_snippet {
             lsp::InsertTextFormat::SNIPPET
         } else {
@@ -270,6 +271,26 @@ pub(crate) fn completion_item(
         ))),
         ..lsp::CompletionItem::default()
     })
+}
+
+/// An LSP quick fix: the analysis' action with the diagnostics it fixes and its edit (both
+/// converted by the caller, which knows the snapshot's files). The most likely fix of a
+/// diagnostic is `isPreferred`, so that a client's "auto fix" applies it.
+pub(crate) fn code_action(
+    action: &CodeAction,
+    diagnostics: Vec<lsp::Diagnostic>,
+    edit: lsp::WorkspaceEdit,
+) -> lsp::CodeAction {
+    lsp::CodeAction {
+        title: action.title.clone(),
+        kind: Some(lsp::CodeActionKind::QUICKFIX),
+        diagnostics: Some(diagnostics),
+        edit: Some(edit),
+        command: None,
+        is_preferred: action.is_preferred.then_some(true),
+        disabled: None,
+        data: None,
+    }
 }
 
 /// An LSP folding range of a fold; `None` when it would not hide a line.

@@ -388,16 +388,12 @@ pub(crate) fn code_action(
                 |file, range| location(snapshot, &files.get(file.0 as usize)?.path, range),
             ));
         }
-        response.push(lsp::CodeActionOrCommand::CodeAction(lsp::CodeAction {
-            title: action.title.clone(),
-            kind: Some(lsp::CodeActionKind::QUICKFIX),
-            diagnostics: Some(diagnostics),
-            edit: Some(workspace_edit(snapshot, &action.edit)?),
-            command: None,
-            is_preferred: action.is_preferred.then_some(true),
-            disabled: None,
-            data: None,
-        }));
+        let edit = workspace_edit(snapshot, &action.edit)?;
+        response.push(lsp::CodeActionOrCommand::CodeAction(convert::code_action(
+            &action,
+            diagnostics,
+            edit,
+        )));
     }
     Ok(Some(response))
 }

@@ -15,16 +15,19 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) {
     let mut steps: Vec<(String, TextRange)> = Vec::new();
     let mut transitions: Vec<(String, TextRange)> = Vec::new();
     for elem in &tree.elems {
-        check_comment(ctx, &elem.node);
         let (Some(name), Some(range)) = (&elem.name, elem.name_range) else {
+            check_comment(ctx, &elem.node);
             continue;
         };
-        check_length(ctx, name, range);
-        check_digits(ctx, name, range, elem.kind);
         let (space, what) = match elem.kind {
             Kind::Step => (&mut steps, "step"),
             kind if kind.is_chart_transition() => (&mut transitions, "transition"),
-            _ => continue,
+            _ => {
+                check_comment(ctx, &elem.node);
+                check_length(ctx, name, range);
+                check_digits(ctx, name, range, elem.kind);
+                continue;
+            }
         };
         if let Some((first, first_range)) = space.iter().find(|(n, _)| n.eq_ignore_ascii_case(name))
         {
@@ -38,11 +41,36 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) {
                     ctx.loc(*first_range),
                     format!("first {what} named '{first}'"),
                 );
+            // C3: the later element is reported and otherwise ignored.
             ctx.push(diag);
         } else {
+            check_comment(ctx, &elem.node);
+            check_length(ctx, name, range);
+            check_digits(ctx, name, range, elem.kind);
             space.push((name.clone(), range));
         }
     }
+}
+
+/// For each element of the tree: is it a step or chart transition whose name an earlier one
+/// of the sequencer has (HG7103)? Such an element is otherwise ignored (C3).
+pub(crate) fn later_duplicates(tree: &Tree) -> Vec<bool> {
+    let mut steps = std::collections::HashSet::new();
+    let mut transitions = std::collections::HashSet::new();
+    tree.elems
+        .iter()
+        .map(|elem| {
+            let Some(name) = &elem.name else {
+                return false;
+            };
+            let seen = match elem.kind {
+                Kind::Step => &mut steps,
+                kind if kind.is_chart_transition() => &mut transitions,
+                _ => return false,
+            };
+            !seen.insert(name.to_ascii_uppercase())
+        })
+        .collect()
 }
 
 /// HG7101: at most 16 characters (Unicode scalar values, §2.7a).

@@ -203,11 +203,13 @@ fn quoted_symbol(
         );
         let candidates: Vec<&str> = ctx.index.symbols.iter().map(|s| s.name.as_str()).collect();
         if let Some(best) = closest(&name, candidates) {
-            diag = diag.fix(
-                format!("Replace with '\"{best}\"'"),
-                ctx.loc(range),
-                format!("\"{best}\""),
-            );
+            diag = diag
+                .fix(
+                    format!("Replace with '\"{best}\"'"),
+                    ctx.loc(range),
+                    format!("\"{best}\""),
+                )
+                .preferred();
         }
         ctx.push(diag);
     }
@@ -248,7 +250,9 @@ fn unresolved_name(ctx: &mut Ctx<'_>, scope: &Scope, name: &str, range: TextRang
     }
     if let Some(best) = closest(name, candidates) {
         let text = lang::operand_spelling(best);
-        diag = diag.fix(format!("Replace with '{text}'"), ctx.loc(range), text);
+        diag = diag
+            .fix(format!("Replace with '{text}'"), ctx.loc(range), text)
+            .preferred();
     }
     ctx.push(diag);
 }

@@ -112,7 +112,10 @@ fn check_endpoints(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
                     endpoint.text, model.name
                 ),
                 End::Any if !is_source => "'any' can only be the source of a transition".into(),
-                End::Return if is_source || any_to_return => {
+                End::Return if any_to_return => {
+                    "'return' cannot be the target of an any-transition".into()
+                }
+                End::Return if is_source => {
                     "'return' can only be the target of a transition".into()
                 }
                 _ => continue,

@@ -288,7 +288,9 @@ fn report_unresolved(ctx: &mut Ctx<'_>, name: &str, range: TextRange, quoted: bo
         } else {
             lang::operand_spelling(best)
         };
-        diag = diag.fix(format!("Replace with '{text}'"), ctx.loc(range), text);
+        diag = diag
+            .fix(format!("Replace with '{text}'"), ctx.loc(range), text)
+            .preferred();
     }
     ctx.push(diag);
 }

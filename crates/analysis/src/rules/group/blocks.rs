@@ -125,7 +125,11 @@ fn check_clause(ctx: &mut Ctx<'_>, clause: Clause, reference: &ast::BlockRef) {
             let Some(kind) = target_kind(&target, ctx.mnemonic) else {
                 return;
             };
-            format!("'{written}' is not an {upper}: it is {kind}")
+            let article = match clause {
+                Clause::Fc => "an",
+                Clause::Db => "a",
+            };
+            format!("'{written}' is not {article} {upper}: it is {kind}")
         }
     };
     let diag = ctx.diag("HG8005", range, message);
@@ -165,6 +169,14 @@ pub(crate) fn generated_blocks(db: &dyn salsa::Database, ws: Workspace) -> Vec<G
                 continue;
             };
             let name = group.name().map(|n| n.text()).unwrap_or_default();
+            // C3: a later group of a name (HG1301) is ignored; it generates nothing.
+            if index
+                .items_named(&name)
+                .next()
+                .is_some_and(|first| !(first.file == file && first.item == item))
+            {
+                continue;
+            }
             for clause in [Clause::Fc, Clause::Db] {
                 let (Some(reference), Some(node)) = (clause.reference(&group), clause.node(&group))
                 else {

@@ -158,10 +158,23 @@ fn instance_header(node: &ast::Instance) -> Option<TextRange> {
     (start <= end).then(|| TextRange::new(start, end))
 }
 
+/// The `Inst.Msg` actuals of the group. A later instance of a duplicated name, and a later
+/// actual of a formal that an earlier actual wires (HG5102), are ignored (C3): they send
+/// nothing.
 fn collect_senders(instances: &[InstanceInfo<'_>]) -> Vec<Sender> {
     let mut senders = Vec::new();
+    let mut seen = HashSet::new();
     for instance in instances {
+        if !seen.insert(index::key(&instance.name)) {
+            continue;
+        }
+        let mut formals = HashSet::new();
         for actual in instance.node.actuals() {
+            if let Some(formal) = actual.formal()
+                && !formals.insert(index::key(&formal.text()))
+            {
+                continue;
+            }
             let Some(ast::Operand::MessageTarget(target)) = actual.value() else {
                 continue;
             };
@@ -457,7 +470,9 @@ fn report_not_a_formal(
             .formal_names()
             .filter(|f| !written_formals.contains(&index::key(f)));
         if let Some(best) = closest(written, free) {
-            diag = diag.fix(format!("Rename to '{best}'"), ctx.loc(range), best);
+            diag = diag
+                .fix(format!("Rename to '{best}'"), ctx.loc(range), best)
+                .preferred();
         }
     }
     ctx.push(diag);

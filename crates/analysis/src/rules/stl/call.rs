@@ -252,7 +252,9 @@ fn not_callable(ctx: &mut Ctx<'_>, range: TextRange, reference: TextRange, name:
         } else {
             format!("\"{best}\"")
         };
-        diag = diag.fix(format!("Replace with {text}"), ctx.loc(range), text);
+        diag = diag
+            .fix(format!("Replace with {text}"), ctx.loc(range), text)
+            .preferred();
     }
     ctx.push(diag);
 }
@@ -569,7 +571,9 @@ fn unknown_parameter(
     };
     let unassigned = formals.iter().filter(|f| !given(f));
     if let Some(best) = closest::closest(written, unassigned.map(|f| f.name.as_str())) {
-        diag = diag.fix(format!("Rename to '{best}'"), ctx.loc(range), best);
+        diag = diag
+            .fix(format!("Rename to '{best}'"), ctx.loc(range), best)
+            .preferred();
     }
     ctx.push(diag);
 }

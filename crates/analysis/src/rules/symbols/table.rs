@@ -13,7 +13,10 @@ pub(crate) const MAX_SYMBOL_NAME: usize = 24;
 /// HG6001, HG6006, HG4009 and HG4010 for every symbol of one `symbols` block.
 pub(super) fn check(ctx: &mut Ctx<'_>, table: &ast::Symbols) {
     for symbol in table.symbols() {
-        check_symbol(ctx, &symbol);
+        // A later symbol of a name is reported (HG6003, HG1301) and otherwise ignored (C3).
+        if !crate::rules::is_later_symbol(ctx, &symbol) {
+            check_symbol(ctx, &symbol);
+        }
     }
 }
 
