@@ -12,5 +12,7 @@ mod explain;
 mod fmt;
 #[path = "cli/parse.rs"]
 mod parse;
+#[path = "cli/paths.rs"]
+mod paths;
 #[path = "cli/sarif.rs"]
 mod sarif;

@@ -9,6 +9,7 @@ mod explain;
 mod fmt_command;
 mod output;
 mod parse;
+mod paths;
 mod render;
 
 use std::fmt;
