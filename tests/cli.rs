@@ -16,3 +16,5 @@ mod parse;
 mod paths;
 #[path = "cli/sarif.rs"]
 mod sarif;
+#[path = "cli/terminal.rs"]
+mod terminal;
