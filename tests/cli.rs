@@ -14,6 +14,8 @@ mod fmt;
 mod parse;
 #[path = "cli/paths.rs"]
 mod paths;
+#[path = "cli/render.rs"]
+mod render;
 #[path = "cli/sarif.rs"]
 mod sarif;
 #[path = "cli/terminal.rs"]
