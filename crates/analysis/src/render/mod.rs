@@ -6,6 +6,7 @@
 //! SVG.
 
 pub mod dot;
+mod layered;
 pub mod layout;
 pub mod model;
 pub mod picture;
