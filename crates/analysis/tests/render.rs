@@ -526,3 +526,64 @@ fn svg_of_the_examples() {
         );
     }
 }
+
+/// No transition label lies on an arrow: no point of a curve is inside its box. (State
+/// numbers sit inside their circles; state names are placed first and arrows avoid them
+/// where a modest arc can, which is not always.)
+fn assert_labels_clear_of_arrows(name: &str, picture: &Picture) {
+    use higraph_analysis::render::Shape;
+    let circles = picture.circles();
+    let is_state_name = |x: f64, y: f64| {
+        circles
+            .iter()
+            .any(|&(cx, cy, r)| (x - cx).abs() < 0.01 && (y - (cy + r + 12.0)).abs() < 0.01)
+    };
+    let texts: Vec<(String, BBox)> = picture
+        .texts()
+        .into_iter()
+        .filter(|(t, _)| !t.bold && !is_state_name(t.x, t.y))
+        .map(|(t, b)| (t.lines.join(" "), b.inflate(-1.0)))
+        .collect();
+    for shape in &picture.shapes {
+        let Shape::Path { d, .. } = shape else {
+            continue;
+        };
+        let v: Vec<f64> = d
+            .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+            .filter(|s| !s.is_empty())
+            .map(|s| s.parse().expect("a number"))
+            .collect();
+        let p = |i: usize| (v[2 * i], v[2 * i + 1]);
+        let (p0, p1, p2, p3) = (p(0), p(1), p(2), p(3));
+        for i in 0..=200 {
+            let t = f64::from(i) / 200.0;
+            let u = 1.0 - t;
+            let (a, b, c, e) = (u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t);
+            let x = a * p0.0 + b * p1.0 + c * p2.0 + e * p3.0;
+            let y = a * p0.1 + b * p1.1 + c * p2.1 + e * p3.1;
+            for (text, bx) in &texts {
+                assert!(
+                    !(x > bx.x && x < bx.x + bx.w && y > bx.y && y < bx.y + bx.h),
+                    "{name}: the arrow {d} crosses the label {text:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn labels_do_not_lie_on_arrows() {
+    let analysis = example("drilling").analysis();
+    // Graphs (the group's wide message labels may have to sit on a link between close
+    // boxes; they are drawn on a white backing).
+    for name in ["Ventil_2E", "Bohren", "Motor", "Spanner"] {
+        assert_labels_clear_of_arrows(name, &picture(&analysis, name));
+    }
+    for n in [3, 8, 12, 20] {
+        let host = single_file(cycle(n));
+        assert_labels_clear_of_arrows(
+            &format!("cycle of {n}"),
+            &picture(&host.analysis(), "Kreis"),
+        );
+    }
+}

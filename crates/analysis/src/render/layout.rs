@@ -166,6 +166,10 @@ struct Router {
     picture: Picture,
     /// The bends already used per unordered node pair (in the frame of the lower index).
     bends: HashMap<(usize, usize), Vec<i32>>,
+    /// Points along every routed curve (labels keep clear of them where they can).
+    curves: Grid,
+    /// Arrows still to be labelled, with their labels.
+    pending: Vec<(Curve, Vec<String>)>,
 }
 
 impl Router {
@@ -238,8 +242,23 @@ impl Router {
         for p in [curve.p1, curve.p2] {
             self.picture.extra.push(BBox::centered(p.0, p.1, 1.0, 1.0));
         }
+        // Points along the curve about every 4 units, which labels keep clear of.
+        let length = [
+            (curve.p0, curve.p1),
+            (curve.p1, curve.p2),
+            (curve.p2, curve.p3),
+        ]
+        .iter()
+        .map(|(a, b)| (b.0 - a.0).hypot(b.1 - a.1))
+        .sum::<f64>();
+        let samples = ((length / 4.0) as u32).clamp(8, 4000);
+        for i in 0..=samples {
+            let (x, y) = curve.at(f64::from(i) / f64::from(samples));
+            self.curves.insert(BBox::centered(x, y, 0.5, 0.5));
+        }
         if label.iter().any(|l| !l.is_empty()) {
-            self.place_label(&curve, label);
+            // Labelled once every arrow is drawn, so that no later arrow crosses a label.
+            self.pending.push((curve, label));
         }
     }
 
@@ -333,25 +352,43 @@ impl Router {
         curve
     }
 
-    /// Puts a label near the middle of a curve where it meets no node and no label; if
-    /// there is no such place near the curve, the nearest free place below its middle.
+    /// Labels every arrow, in the order they were drawn.
+    fn place_labels(&mut self) {
+        for (curve, lines) in std::mem::take(&mut self.pending) {
+            self.place_label(&curve, lines);
+        }
+    }
+
+    /// Puts a label beside the middle of a curve where it meets no node, no label and no
+    /// arrow; failing that, on the curve where it meets no node and no label; failing that,
+    /// the nearest such place below its middle.
     fn place_label(&mut self, curve: &Curve, lines: Vec<String>) {
         let (w, h) = Text::extent(&lines, FONT_SIZE);
         let free = |b: &BBox, taken: &Grid| taken.is_free(b);
         let mut chosen = None;
-        'search: for t in [0.5, 0.4, 0.6, 0.3, 0.7, 0.25, 0.75, 0.2, 0.8] {
-            let (x, y) = curve.at(t);
-            for (ox, oy) in [
-                (0.0, 0.0),
-                (w / 2.0 + 4.0, 0.0),
-                (-w / 2.0 - 4.0, 0.0),
-                (0.0, -h / 2.0 - 4.0),
-                (0.0, h / 2.0 + 4.0),
-            ] {
-                let b = BBox::centered(x + ox, y + oy, w, h);
-                if free(&b, &self.taken) {
-                    chosen = Some((x + ox, y + oy));
-                    break 'search;
+        'search: for clear_of_arrows in [true, false] {
+            for t in [0.5, 0.4, 0.6, 0.3, 0.7, 0.25, 0.75, 0.2, 0.8, 0.15, 0.85] {
+                let (x, y) = curve.at(t);
+                for (ox, oy) in [
+                    (0.0, -h / 2.0 - 3.0),
+                    (0.0, h / 2.0 + 3.0),
+                    (w / 2.0 + 4.0, 0.0),
+                    (-w / 2.0 - 4.0, 0.0),
+                    (w / 2.0 + 4.0, -h / 2.0 - 3.0),
+                    (-w / 2.0 - 4.0, -h / 2.0 - 3.0),
+                    (w / 2.0 + 4.0, h / 2.0 + 3.0),
+                    (-w / 2.0 - 4.0, h / 2.0 + 3.0),
+                    (0.0, -h - 8.0),
+                    (0.0, h + 8.0),
+                    (0.0, 0.0),
+                ] {
+                    let b = BBox::centered(x + ox, y + oy, w, h);
+                    if free(&b, &self.taken)
+                        && (!clear_of_arrows || free(&b.inflate(3.0), &self.curves))
+                    {
+                        chosen = Some((x + ox, y + oy));
+                        break 'search;
+                    }
                 }
             }
         }
@@ -382,6 +419,7 @@ impl Router {
 
     /// The finished picture, with a heading above everything.
     fn finish(mut self, title: String, heading: String) -> Picture {
+        self.place_labels();
         let bounds = self.picture.bounds();
         self.picture.shapes.push(Shape::Text(Text {
             x: bounds.x + bounds.w / 2.0,
