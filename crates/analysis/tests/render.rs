@@ -199,6 +199,7 @@ fn a_large_generated_graph_has_no_overlaps() {
     let picture = picture(&analysis, "gross");
     assert_eq!(picture.circles().len(), 60);
     assert_no_overlaps("Gross", &picture);
+    assert_arrowheads_visible("Gross", &picture);
     let dot = render(&analysis, "Gross", RenderFormat::Dot);
     assert_eq!(dot.matches("shape=circle").count(), 60);
 }

@@ -168,6 +168,8 @@ struct Router {
     bends: HashMap<(usize, usize), Vec<i32>>,
     /// Points along every routed curve (labels keep clear of them where they can).
     curves: Grid,
+    /// The arrowheads (labels always keep clear of them).
+    heads: Grid,
     /// Arrows still to be labelled, with their labels.
     pending: Vec<(Curve, Vec<String>)>,
 }
@@ -256,6 +258,11 @@ impl Router {
             let (x, y) = curve.at(f64::from(i) / f64::from(samples));
             self.curves.insert(BBox::centered(x, y, 0.5, 0.5));
         }
+        let (ex, ey) = (curve.p3.0 - curve.p2.0, curve.p3.1 - curve.p2.1);
+        let elen = ex.hypot(ey).max(1e-9);
+        let head = (curve.p3.0 - ex / elen * 6.0, curve.p3.1 - ey / elen * 6.0);
+        self.heads
+            .insert(BBox::centered(head.0, head.1, 16.0, 16.0));
         if label.iter().any(|l| !l.is_empty()) {
             // Labelled once every arrow is drawn, so that no later arrow crosses a label.
             self.pending.push((curve, label));
@@ -384,6 +391,7 @@ impl Router {
                 ] {
                     let b = BBox::centered(x + ox, y + oy, w, h);
                     if free(&b, &self.taken)
+                        && free(&b, &self.heads)
                         && (!clear_of_arrows || free(&b.inflate(3.0), &self.curves))
                     {
                         chosen = Some((x + ox, y + oy));
@@ -398,7 +406,8 @@ impl Router {
                 let (x, mut y) = curve.at(0.5);
                 // Terminates: the taken boxes are finitely many and finite.
                 for _ in 0..100_000 {
-                    if free(&BBox::centered(x, y, w, h), &self.taken) {
+                    let b = BBox::centered(x, y, w, h);
+                    if free(&b, &self.taken) && free(&b, &self.heads) {
                         break;
                     }
                     y += 6.0;
