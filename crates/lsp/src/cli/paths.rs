@@ -37,7 +37,7 @@ impl OutputPaths {
     /// The output name of the file whose workspace name is `name` (a workspace-relative `/`
     /// path, or an absolute path for a file outside the workspace).
     pub(crate) fn name(&self, name: &str) -> String {
-        self.of_path(&self.root.join(name))
+        self.of_path(&normalize(&self.root.join(name)))
     }
 
     /// The output name of an absolute path: relative to the current directory with `/`, or
@@ -56,6 +56,25 @@ impl OutputPaths {
     pub(crate) fn root(&self) -> String {
         self.of_path(&self.root)
     }
+}
+
+/// Removes `.` and resolves `..` components lexically (a `--config ../x.toml` names a file
+/// outside the workspace by a relative path).
+fn normalize(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if !out.pop() {
+                    out.push(component);
+                }
+            }
+            other => out.push(other),
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -79,6 +98,10 @@ mod tests {
         assert_eq!(below.name("graphs/deep/a.higraph"), "a.higraph");
         assert_eq!(below.name("graphs/b.higraph"), "/ws/graphs/b.higraph");
         assert_eq!(below.root(), "/ws");
+
+        // A name with `..` (a `--config` outside the workspace) is resolved first.
+        assert_eq!(same.name("../cfg.toml"), "/cfg.toml");
+        assert_eq!(below.name("./graphs/deep/../deep/a.higraph"), "a.higraph");
 
         let unknown = OutputPaths::with_cwd(Path::new("/ws"), None);
         assert_eq!(unknown.name("a.higraph"), "/ws/a.higraph");
