@@ -12,5 +12,11 @@ mod explain;
 mod fmt;
 #[path = "cli/parse.rs"]
 mod parse;
+#[path = "cli/paths.rs"]
+mod paths;
+#[path = "cli/render.rs"]
+mod render;
 #[path = "cli/sarif.rs"]
 mod sarif;
+#[path = "cli/terminal.rs"]
+mod terminal;

@@ -56,3 +56,32 @@ fn mistakes_are_reported() {
     assert_eq!(output.status.code(), Some(1));
     insta::assert_snapshot!(String::from_utf8_lossy(&output.stdout));
 }
+
+/// Every example is in the canonical layout: `fmt --check` passes on each folder under
+/// `examples/` (a CI that runs it on a fresh clone stays green).
+#[test]
+fn every_example_is_formatted() {
+    let examples = root().join("examples");
+    let mut folders: Vec<PathBuf> = std::fs::read_dir(&examples)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", examples.display()))
+        .filter_map(|entry| entry.ok().map(|entry| entry.path()))
+        .filter(|path| path.is_dir())
+        .collect();
+    folders.sort();
+    assert!(folders.len() >= 3, "{folders:?}");
+    for folder in folders {
+        let output = Command::new(env!("CARGO_BIN_EXE_higraph-lsp"))
+            .current_dir(&folder)
+            .args(["fmt", "--check"])
+            .output()
+            .unwrap_or_else(|e| panic!("cannot run higraph-lsp: {e}"));
+        assert_eq!(
+            output.status.code(),
+            Some(0),
+            "{}: fmt --check lists {}{}",
+            folder.display(),
+            String::from_utf8_lossy(&output.stdout),
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+}

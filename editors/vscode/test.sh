@@ -25,3 +25,14 @@ npm run package </dev/null
 
 vsix=$(ls ./*.vsix)
 echo "== packaged ${vsix#./}"
+
+# The package holds what the installed extension needs, never tests, end-to-end scripts,
+# fixtures, build scripts or sources (`.vscodeignore`).
+echo "== checking the package listing"
+listing=$(npx vsce ls --no-dependencies)
+if unwanted=$(grep -E '(^|/)(test|tests|e2e|fixtures|scripts|src)/|\.(test\.[a-z]+|mjs|sh|ts|map)$' <<<"$listing"); then
+  echo "the package must not contain these files:" >&2
+  echo "$unwanted" >&2
+  exit 1
+fi
+grep -qx 'dist/extension.js' <<<"$listing" || { echo "dist/extension.js is missing from the package" >&2; exit 1; }

@@ -158,8 +158,10 @@ fn json_has_the_specified_shape() {
     let run = tree.run(".", &["check", "--format", "json"]);
     let report = json(&run);
     let top: Vec<_> = report.as_object().unwrap().keys().cloned().collect();
-    assert_eq!(top.len(), 3, "{top:?}");
+    assert_eq!(top.len(), 4, "{top:?}");
     assert_eq!(report["version"], 1);
+    // Run in the workspace root: the root relative to the current directory is `.`.
+    assert_eq!(report["root"], ".");
     for diagnostic in report["diagnostics"].as_array().unwrap() {
         let object = diagnostic.as_object().unwrap();
         let mut keys: Vec<_> = object.keys().map(String::as_str).collect();
@@ -213,7 +215,7 @@ fn json_has_the_specified_shape() {
     // Pretty-printed with two spaces.
     assert!(
         run.stdout
-            .starts_with("{\n  \"version\": 1,\n  \"diagnostics\": [\n    {\n")
+            .starts_with("{\n  \"version\": 1,\n  \"root\": \".\",\n  \"diagnostics\": [\n    {\n")
     );
 }
 

@@ -91,7 +91,8 @@ fn only_files_under_the_paths_are_formatted() {
         .file("other/b.higraph", MESSY);
     let run = tree.run("graphs", &["fmt"]);
     assert_eq!(run.status, 0, "{run:?}");
-    assert_eq!(run.stdout, "graphs/a.higraph\n");
+    // Named relative to the current folder (`tooling.md` §2).
+    assert_eq!(run.stdout, "a.higraph\n");
     assert_eq!(
         fs::read_to_string(tree.path().join("other/b.higraph")).expect("read"),
         MESSY

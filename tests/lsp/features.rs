@@ -489,3 +489,23 @@ fn render_request_returns_an_svg_and_refuses_unknown_names() {
     );
     assert_eq!(server.shutdown_and_exit(), 0);
 }
+
+#[test]
+fn render_request_names_the_candidates_of_a_shared_name() {
+    let tree = drilling();
+    tree.file(
+        "graphs/zweiter.higraph",
+        "// a second Motor\ngraph Motor <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\n",
+    );
+    let mut server = Server::indexed(&tree.path());
+    let error = server
+        .request("higraph/render", json!({"name": "motor"}))
+        .expect_err("a shared name is refused, not a silent pick");
+    let message = error["message"].as_str().expect("a message");
+    assert!(
+        message.contains("graph Motor at graphs/motor.higraph:")
+            && message.contains("graph Motor at graphs/zweiter.higraph:2"),
+        "{error}"
+    );
+    assert_eq!(server.shutdown_and_exit(), 0);
+}

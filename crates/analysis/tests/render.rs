@@ -199,6 +199,7 @@ fn a_large_generated_graph_has_no_overlaps() {
     let picture = picture(&analysis, "gross");
     assert_eq!(picture.circles().len(), 60);
     assert_no_overlaps("Gross", &picture);
+    assert_arrowheads_visible("Gross", &picture);
     let dot = render(&analysis, "Gross", RenderFormat::Dot);
     assert_eq!(dot.matches("shape=circle").count(), 60);
 }
@@ -336,5 +337,254 @@ fn assert_no_overlaps_of_texts(name: &str, picture: &Picture) {
                 tb.lines
             );
         }
+    }
+}
+
+/// The end point and the direction at the end of an SVG path `M x,y C x1,y1 x2,y2 x3,y3` (or
+/// of a chart's `M… H… V… H…` path: only the last two points).
+fn path_end(d: &str) -> ((f64, f64), (f64, f64)) {
+    let numbers: Vec<f64> = d
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse().expect("a number"))
+        .collect();
+    assert!(numbers.len() >= 8 && d.contains('C'), "a cubic curve: {d}");
+    let n = numbers.len();
+    let end = (numbers[n - 2], numbers[n - 1]);
+    let before = (numbers[n - 4], numbers[n - 3]);
+    let (dx, dy) = (end.0 - before.0, end.1 - before.1);
+    let len = dx.hypot(dy).max(1e-9);
+    (end, (dx / len, dy / len))
+}
+
+/// Every arrow of a graph or group picture ends in a visible arrowhead: the path has a
+/// marker, its end lies on a node and points into it, and the arrowhead (the last 8 units)
+/// lies outside every node and every label.
+fn assert_arrowheads_visible(name: &str, picture: &Picture) {
+    use higraph_analysis::render::Shape;
+    let svg = picture.to_svg();
+    assert_eq!(
+        // Edge paths (the marker's own triangle is filled).
+        svg.matches("<path d=\"M").count() - svg.matches("<path d=\"M0,0 L10,5").count(),
+        svg.matches("marker-end=\"url(#arrow)\"").count(),
+        "{name}: every edge path has a marker-end"
+    );
+    let circles = picture.circles();
+    let rects: Vec<BBox> = picture
+        .shapes
+        .iter()
+        .filter_map(|s| match s {
+            Shape::Rect { bbox, .. } => Some(*bbox),
+            _ => None,
+        })
+        .collect();
+    let inside_node = |(x, y): (f64, f64), slack: f64| {
+        circles
+            .iter()
+            .any(|&(cx, cy, r)| (x - cx).hypot(y - cy) < r + slack)
+            || rects.iter().any(|b| {
+                x > b.x - slack && x < b.x + b.w + slack && y > b.y - slack && y < b.y + b.h + slack
+            })
+    };
+    let texts = picture.texts();
+    let mut arrows = 0;
+    for shape in &picture.shapes {
+        let Shape::Path { d, arrow, .. } = shape else {
+            continue;
+        };
+        assert!(*arrow, "{name}: {d} has no arrowhead");
+        arrows += 1;
+        let (end, dir) = path_end(d);
+        assert!(
+            inside_node((end.0 + dir.0 * 3.0, end.1 + dir.1 * 3.0), 0.0),
+            "{name}: {d} does not point into a node"
+        );
+        for back in [4.0, 8.0] {
+            let p = (end.0 - dir.0 * back, end.1 - dir.1 * back);
+            assert!(
+                !inside_node(p, -0.5),
+                "{name}: the arrowhead of {d} is under a node"
+            );
+            for (text, b) in &texts {
+                assert!(
+                    !(p.0 > b.x && p.0 < b.x + b.w && p.1 > b.y && p.1 < b.y + b.h),
+                    "{name}: the arrowhead of {d} is under the label {:?}",
+                    text.lines
+                );
+            }
+        }
+    }
+    assert!(arrows > 0, "{name}: no arrows");
+}
+
+/// Width to height of the whole picture.
+fn aspect(picture: &Picture) -> f64 {
+    let b = picture.bounds();
+    b.w / b.h
+}
+
+#[test]
+fn every_arrow_of_the_drilling_pictures_has_a_visible_head() {
+    let analysis = example("drilling").analysis();
+    for name in ["Ventil_2E", "Bohren", "Motor", "Spanner", "Bohrmaschine"] {
+        assert_arrowheads_visible(name, &picture(&analysis, name));
+    }
+}
+
+#[test]
+fn drilling_graphs_are_about_as_wide_as_high() {
+    let analysis = example("drilling").analysis();
+    for name in ["Ventil_2E", "Bohren", "Motor", "Spanner"] {
+        let ratio = aspect(&picture(&analysis, name));
+        assert!((0.5..=2.0).contains(&ratio), "{name}: width/height {ratio}");
+    }
+}
+
+/// A cycle of `n` states (`0 -> 1 -> … -> n-1 -> 1`) with a startup transition, named.
+fn cycle(n: u32) -> String {
+    let mut text = String::from("graph Kreis <\n");
+    for s in 0..n {
+        text.push_str(&format!("  state {s} \"Schritt {s}\" < >\n"));
+    }
+    text.push_str("  trans any->0 < U INIT_SD; >\n");
+    for s in 0..n - 1 {
+        text.push_str(&format!("  trans {s}->{} < >\n", s + 1));
+    }
+    text.push_str(&format!("  trans {}->1 < >\n>\n", n - 1));
+    text
+}
+
+fn single_file(text: String) -> AnalysisHost {
+    let mut host = AnalysisHost::new();
+    host.load(WorkspaceData {
+        files: vec![("g.higraph".into(), FileContents::Text(text))],
+        ..WorkspaceData::default()
+    });
+    host
+}
+
+#[test]
+fn cycles_of_up_to_20_states_are_drawn_in_rows_not_a_column() {
+    for n in [3, 5, 8, 12, 16, 20] {
+        let host = single_file(cycle(n));
+        let picture = picture(&host.analysis(), "Kreis");
+        let ratio = aspect(&picture);
+        assert!(
+            (0.5..=2.0).contains(&ratio),
+            "{n} states: width/height {ratio}"
+        );
+        assert_no_overlaps(&format!("cycle of {n}"), &picture);
+        assert_arrowheads_visible(&format!("cycle of {n}"), &picture);
+    }
+}
+
+#[test]
+fn transitions_are_labelled_with_priority_and_attributes() {
+    let host = single_file(
+        "graph G <\n  state 0 < >\n  state 1 < >\n  trans any->0 < U INIT_SD; >\n  trans 0->1 prio 2 auto waits < >\n  trans 0->1 prio 1 fault < >\n>\n"
+            .to_string(),
+    );
+    let picture = picture(&host.analysis(), "G");
+    let labels: Vec<String> = picture
+        .texts()
+        .iter()
+        .flat_map(|(t, _)| t.lines.clone())
+        .collect();
+    assert!(labels.contains(&"2 auto waits".to_string()), "{labels:?}");
+    assert!(labels.contains(&"1 fault".to_string()), "{labels:?}");
+    // The two parallel arrows are fanned out: different paths.
+    let paths: Vec<&str> = picture
+        .shapes
+        .iter()
+        .filter_map(|s| match s {
+            higraph_analysis::render::Shape::Path { d, .. } => Some(d.as_str()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(paths.len(), 3);
+    assert_ne!(paths[1], paths[2]);
+    assert_arrowheads_visible("G", &picture);
+}
+
+#[test]
+fn a_long_chain_renders_in_layers() {
+    // 16 000 states in a cycle: the layout must be (near) linear; a quadratic one takes
+    // minutes here.
+    let host = single_file(cycle(16_000));
+    let picture = picture(&host.analysis(), "Kreis");
+    assert_eq!(picture.circles().len(), 16_000);
+    let ratio = aspect(&picture);
+    assert!((0.25..=4.0).contains(&ratio), "width/height {ratio}");
+}
+
+#[test]
+fn svg_of_the_examples() {
+    let drilling = example("drilling").analysis();
+    for name in ["Ventil_2E", "Bohren", "Bohrmaschine"] {
+        insta::assert_snapshot!(
+            format!("svg_{}", name.to_lowercase()),
+            render(&drilling, name, RenderFormat::Svg)
+        );
+    }
+}
+
+/// No transition label lies on an arrow: no point of a curve is inside its box. (State
+/// numbers sit inside their circles; state names are placed first and arrows avoid them
+/// where a modest arc can, which is not always.)
+fn assert_labels_clear_of_arrows(name: &str, picture: &Picture) {
+    use higraph_analysis::render::Shape;
+    let circles = picture.circles();
+    let is_state_name = |x: f64, y: f64| {
+        circles
+            .iter()
+            .any(|&(cx, cy, r)| (x - cx).abs() < 0.01 && (y - (cy + r + 12.0)).abs() < 0.01)
+    };
+    let texts: Vec<(String, BBox)> = picture
+        .texts()
+        .into_iter()
+        .filter(|(t, _)| !t.bold && !is_state_name(t.x, t.y))
+        .map(|(t, b)| (t.lines.join(" "), b.inflate(-1.0)))
+        .collect();
+    for shape in &picture.shapes {
+        let Shape::Path { d, .. } = shape else {
+            continue;
+        };
+        let v: Vec<f64> = d
+            .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+            .filter(|s| !s.is_empty())
+            .map(|s| s.parse().expect("a number"))
+            .collect();
+        let p = |i: usize| (v[2 * i], v[2 * i + 1]);
+        let (p0, p1, p2, p3) = (p(0), p(1), p(2), p(3));
+        for i in 0..=200 {
+            let t = f64::from(i) / 200.0;
+            let u = 1.0 - t;
+            let (a, b, c, e) = (u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t);
+            let x = a * p0.0 + b * p1.0 + c * p2.0 + e * p3.0;
+            let y = a * p0.1 + b * p1.1 + c * p2.1 + e * p3.1;
+            for (text, bx) in &texts {
+                assert!(
+                    !(x > bx.x && x < bx.x + bx.w && y > bx.y && y < bx.y + bx.h),
+                    "{name}: the arrow {d} crosses the label {text:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn labels_do_not_lie_on_arrows() {
+    let analysis = example("drilling").analysis();
+    // Graphs (the group's wide message labels may have to sit on a link between close
+    // boxes; they are drawn on a white backing).
+    for name in ["Ventil_2E", "Bohren", "Motor", "Spanner"] {
+        assert_labels_clear_of_arrows(name, &picture(&analysis, name));
+    }
+    for n in [3, 8, 12, 20] {
+        let host = single_file(cycle(n));
+        assert_labels_clear_of_arrows(
+            &format!("cycle of {n}"),
+            &picture(&host.analysis(), "Kreis"),
+        );
     }
 }

@@ -4,7 +4,7 @@
 //!
 //! Everything is deterministic: the same model gives the same picture.
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::HashMap;
 
 use super::model::{ChartModel, Element, End, GraphModel, GroupModel};
 use super::picture::{BBox, FONT_SIZE, Picture, Shape, Text, text_width};
@@ -12,9 +12,7 @@ use super::picture::{BBox, FONT_SIZE, Picture, Shape, Text, text_width};
 /// Radius of a state circle.
 const STATE_RADIUS: f64 = 28.0;
 /// Vertical distance of the rows of a state graph.
-const ROW_HEIGHT: f64 = 170.0;
-/// At most this many states in one row; longer BFS layers wrap.
-const MAX_PER_ROW: usize = 6;
+const ROW_HEIGHT: f64 = 150.0;
 /// Names longer than this are cut (with `…`) so that neighbouring names never meet.
 const MAX_NAME_CHARS: usize = 28;
 
@@ -106,28 +104,125 @@ impl Curve {
     }
 }
 
+/// Boxes filed by the square cells of [`Grid::CELL`] they touch, so that "what is near this
+/// point or box" costs the few boxes there, not all of them: routing and labelling stay
+/// linear in the size of the picture.
+#[derive(Default)]
+struct Grid {
+    boxes: Vec<BBox>,
+    cells: HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl Grid {
+    const CELL: f64 = 80.0;
+
+    fn cell_range(b: &BBox) -> ((i64, i64), (i64, i64)) {
+        let cell = |v: f64| (v / Self::CELL).floor() as i64;
+        ((cell(b.x), cell(b.y)), (cell(b.x + b.w), cell(b.y + b.h)))
+    }
+
+    fn insert(&mut self, b: BBox) -> usize {
+        let id = self.boxes.len();
+        self.boxes.push(b);
+        let ((x0, y0), (x1, y1)) = Self::cell_range(&b);
+        for cx in x0..=x1 {
+            for cy in y0..=y1 {
+                self.cells.entry((cx, cy)).or_default().push(id);
+            }
+        }
+        id
+    }
+
+    /// Ids of boxes that may overlap `b` (each box in a cell `b` touches; maybe repeated).
+    fn near(&self, b: &BBox) -> impl Iterator<Item = usize> + '_ {
+        let ((x0, y0), (x1, y1)) = Self::cell_range(b);
+        (x0..=x1)
+            .flat_map(move |cx| (y0..=y1).map(move |cy| (cx, cy)))
+            .filter_map(|key| self.cells.get(&key))
+            .flatten()
+            .copied()
+    }
+
+    /// Whether no box overlaps `b`.
+    fn is_free(&self, b: &BBox) -> bool {
+        self.near(b).all(|id| !self.boxes[id].overlaps(b))
+    }
+}
+
+/// How far from a node a routed curve keeps.
+const NODE_MARGIN: f64 = 8.0;
+
 /// Collects nodes, routed edges and placed labels.
 #[derive(Default)]
 struct Router {
     nodes: Vec<Node>,
+    /// The nodes' boxes grown by [`NODE_MARGIN`] (ids are node indices).
+    node_grid: Grid,
     /// Boxes labels must keep clear of: nodes and placed labels.
-    taken: Vec<BBox>,
+    taken: Grid,
+    /// The fixed labels (state names, instance texts): curves keep clear of them where they
+    /// can, and an arrowhead never ends under one.
+    fixed: Grid,
     picture: Picture,
     /// The bends already used per unordered node pair (in the frame of the lower index).
     bends: HashMap<(usize, usize), Vec<i32>>,
+    /// Points along every routed curve (labels keep clear of them where they can).
+    curves: Grid,
+    /// The arrowheads (labels always keep clear of them).
+    heads: Grid,
+    /// Arrows still to be labelled, with their labels.
+    pending: Vec<(Curve, Vec<String>)>,
 }
 
 impl Router {
     fn add_node(&mut self, node: Node) -> usize {
-        self.taken.push(node.bbox().inflate(2.0));
+        self.taken.insert(node.bbox().inflate(2.0));
+        self.node_grid.insert(node.bbox().inflate(NODE_MARGIN));
         self.nodes.push(node);
         self.nodes.len() - 1
     }
 
     /// A fixed label (state name, instance text); it is drawn and kept clear of.
     fn fixed_label(&mut self, text: Text) {
-        self.taken.push(text.bbox());
+        self.taken.insert(text.bbox());
+        self.fixed.insert(text.bbox().inflate(2.0));
         self.picture.shapes.push(Shape::Text(text));
+    }
+
+    /// Whether a point lies under a fixed label.
+    fn under_label(&self, (x, y): (f64, f64)) -> bool {
+        let point = BBox::centered(x, y, 0.0, 0.0);
+        self.fixed.near(&point).any(|i| {
+            let b = &self.fixed.boxes[i];
+            x > b.x && x < b.x + b.w && y > b.y && y < b.y + b.h
+        })
+    }
+
+    /// How badly a curve from node `from` to node `to` is placed: the samples that pass
+    /// another node or a fixed label, and much more for an arrowhead under a label.
+    fn badness(&self, curve: &Curve, len: f64, from: usize, to: usize) -> usize {
+        // About one sample per 30 units of length, so long arcs are checked as closely.
+        let samples = ((len / 30.0) as u32).clamp(20, 400);
+        let passes = (1..samples)
+            .map(|i| curve.at(f64::from(i) / f64::from(samples)))
+            .filter(|&p| self.hits_node(p, from, to) || self.under_label(p))
+            .count();
+        let (ex, ey) = (curve.p3.0 - curve.p2.0, curve.p3.1 - curve.p2.1);
+        let elen = ex.hypot(ey).max(1e-9);
+        let head = [0.0, 5.0, 10.0]
+            .iter()
+            .filter(|&&back| {
+                self.under_label((curve.p3.0 - ex / elen * back, curve.p3.1 - ey / elen * back))
+            })
+            .count();
+        passes + 20 * head
+    }
+
+    /// Whether a point of a curve passes a node other than `from` and `to`.
+    fn hits_node(&self, (x, y): (f64, f64), from: usize, to: usize) -> bool {
+        self.node_grid
+            .near(&BBox::centered(x, y, 0.0, 0.0))
+            .any(|i| i != from && i != to && self.nodes[i].near(x, y, NODE_MARGIN))
     }
 
     /// Routes an arrow from node `from` to node `to` and labels it.
@@ -149,8 +244,28 @@ impl Router {
         for p in [curve.p1, curve.p2] {
             self.picture.extra.push(BBox::centered(p.0, p.1, 1.0, 1.0));
         }
+        // Points along the curve about every 4 units, which labels keep clear of.
+        let length = [
+            (curve.p0, curve.p1),
+            (curve.p1, curve.p2),
+            (curve.p2, curve.p3),
+        ]
+        .iter()
+        .map(|(a, b)| (b.0 - a.0).hypot(b.1 - a.1))
+        .sum::<f64>();
+        let samples = ((length / 4.0) as u32).clamp(8, 4000);
+        for i in 0..=samples {
+            let (x, y) = curve.at(f64::from(i) / f64::from(samples));
+            self.curves.insert(BBox::centered(x, y, 0.5, 0.5));
+        }
+        let (ex, ey) = (curve.p3.0 - curve.p2.0, curve.p3.1 - curve.p2.1);
+        let elen = ex.hypot(ey).max(1e-9);
+        let head = (curve.p3.0 - ex / elen * 6.0, curve.p3.1 - ey / elen * 6.0);
+        self.heads
+            .insert(BBox::centered(head.0, head.1, 16.0, 16.0));
         if label.iter().any(|l| !l.is_empty()) {
-            self.place_label(&curve, label);
+            // Labelled once every arrow is drawn, so that no later arrow crosses a label.
+            self.pending.push((curve, label));
         }
     }
 
@@ -186,8 +301,19 @@ impl Router {
         let make = |bend: i32| -> Curve {
             // Longer edges bend more, so that the curve clears the nodes it passes.
             let h = f64::from(bend) * (len * 0.12).max(40.0);
-            let c1 = (a.x + normal.0 * h, a.y + normal.1 * h);
-            let c2 = (b.x + normal.0 * h, b.y + normal.1 * h);
+            // Control points a third of the way in from each end, outside both nodes, so the
+            // curve leaves `a` and enters `b` head-on and the arrowhead at `b` is visible.
+            let c1 = outside(
+                &a,
+                (a.x + dx / 3.0 + normal.0 * h, a.y + dy / 3.0 + normal.1 * h),
+            );
+            let c2 = outside(
+                &b,
+                (
+                    a.x + dx * 2.0 / 3.0 + normal.0 * h,
+                    a.y + dy * 2.0 / 3.0 + normal.1 * h,
+                ),
+            );
             if bend == 0 {
                 let p0 = a.boundary_toward(b.x, b.y);
                 let p3 = b.boundary_toward(a.x, a.y);
@@ -214,15 +340,7 @@ impl Router {
                 continue;
             }
             let curve = make(bend);
-            let hits = (1..20)
-                .map(|i| curve.at(f64::from(i) / 20.0))
-                .filter(|&(x, y)| {
-                    self.nodes
-                        .iter()
-                        .enumerate()
-                        .any(|(i, n)| i != from && i != to && n.near(x, y, 8.0))
-                })
-                .count();
+            let hits = self.badness(&curve, len, from, to);
             if best.as_ref().is_none_or(|(h, _, _)| hits < *h) {
                 best = Some((hits, bend, curve));
             }
@@ -241,25 +359,44 @@ impl Router {
         curve
     }
 
-    /// Puts a label near the middle of a curve where it meets no node and no label; if
-    /// there is no such place near the curve, the nearest free place below its middle.
+    /// Labels every arrow, in the order they were drawn.
+    fn place_labels(&mut self) {
+        for (curve, lines) in std::mem::take(&mut self.pending) {
+            self.place_label(&curve, lines);
+        }
+    }
+
+    /// Puts a label beside the middle of a curve where it meets no node, no label and no
+    /// arrow; failing that, on the curve where it meets no node and no label; failing that,
+    /// the nearest such place below its middle.
     fn place_label(&mut self, curve: &Curve, lines: Vec<String>) {
         let (w, h) = Text::extent(&lines, FONT_SIZE);
-        let free = |b: &BBox, taken: &[BBox]| taken.iter().all(|t| !t.overlaps(b));
+        let free = |b: &BBox, taken: &Grid| taken.is_free(b);
         let mut chosen = None;
-        'search: for t in [0.5, 0.4, 0.6, 0.3, 0.7, 0.25, 0.75, 0.2, 0.8] {
-            let (x, y) = curve.at(t);
-            for (ox, oy) in [
-                (0.0, 0.0),
-                (w / 2.0 + 4.0, 0.0),
-                (-w / 2.0 - 4.0, 0.0),
-                (0.0, -h / 2.0 - 4.0),
-                (0.0, h / 2.0 + 4.0),
-            ] {
-                let b = BBox::centered(x + ox, y + oy, w, h);
-                if free(&b, &self.taken) {
-                    chosen = Some((x + ox, y + oy));
-                    break 'search;
+        'search: for clear_of_arrows in [true, false] {
+            for t in [0.5, 0.4, 0.6, 0.3, 0.7, 0.25, 0.75, 0.2, 0.8, 0.15, 0.85] {
+                let (x, y) = curve.at(t);
+                for (ox, oy) in [
+                    (0.0, -h / 2.0 - 3.0),
+                    (0.0, h / 2.0 + 3.0),
+                    (w / 2.0 + 4.0, 0.0),
+                    (-w / 2.0 - 4.0, 0.0),
+                    (w / 2.0 + 4.0, -h / 2.0 - 3.0),
+                    (-w / 2.0 - 4.0, -h / 2.0 - 3.0),
+                    (w / 2.0 + 4.0, h / 2.0 + 3.0),
+                    (-w / 2.0 - 4.0, h / 2.0 + 3.0),
+                    (0.0, -h - 8.0),
+                    (0.0, h + 8.0),
+                    (0.0, 0.0),
+                ] {
+                    let b = BBox::centered(x + ox, y + oy, w, h);
+                    if free(&b, &self.taken)
+                        && free(&b, &self.heads)
+                        && (!clear_of_arrows || free(&b.inflate(3.0), &self.curves))
+                    {
+                        chosen = Some((x + ox, y + oy));
+                        break 'search;
+                    }
                 }
             }
         }
@@ -269,7 +406,8 @@ impl Router {
                 let (x, mut y) = curve.at(0.5);
                 // Terminates: the taken boxes are finitely many and finite.
                 for _ in 0..100_000 {
-                    if free(&BBox::centered(x, y, w, h), &self.taken) {
+                    let b = BBox::centered(x, y, w, h);
+                    if free(&b, &self.taken) && free(&b, &self.heads) {
                         break;
                     }
                     y += 6.0;
@@ -284,12 +422,13 @@ impl Router {
             size: FONT_SIZE,
             bold: false,
         };
-        self.taken.push(text.bbox());
+        self.taken.insert(text.bbox());
         self.picture.shapes.push(Shape::Text(text));
     }
 
     /// The finished picture, with a heading above everything.
     fn finish(mut self, title: String, heading: String) -> Picture {
+        self.place_labels();
         let bounds = self.picture.bounds();
         self.picture.shapes.push(Shape::Text(Text {
             x: bounds.x + bounds.w / 2.0,
@@ -303,6 +442,22 @@ impl Router {
     }
 }
 
+/// `point` if it lies outside `node` (with a margin), else the point outside it in the same
+/// direction from its centre.
+fn outside(node: &Node, point: (f64, f64)) -> (f64, f64) {
+    if !node.near(point.0, point.1, 12.0) {
+        return point;
+    }
+    let (dx, dy) = (point.0 - node.x, point.1 - node.y);
+    let len = dx.hypot(dy);
+    if len < 1e-9 {
+        return point;
+    }
+    let (bx, by) = node.boundary_toward(point.0, point.1);
+    let reach = (bx - node.x).hypot(by - node.y) + 24.0;
+    (node.x + dx / len * reach, node.y + dy / len * reach)
+}
+
 /// Cuts a label to at most [`MAX_NAME_CHARS`] characters.
 fn shorten(text: &str) -> String {
     if text.chars().count() <= MAX_NAME_CHARS {
@@ -314,55 +469,29 @@ fn shorten(text: &str) -> String {
     }
 }
 
-/// A state graph: BFS layers from the initial state as rows of circles (wrapped after
-/// [`MAX_PER_ROW`]), unreachable states in rows below; any-transitions start at a small bar
-/// above left of their target, return transitions end at a small bar right of their source.
+/// A state graph: states placed in layers from the initial state ([`super::layered`]: breadth
+/// first, barycenter-ordered, folded into rows so the picture is about as wide as high);
+/// transitions to earlier layers are drawn as arcs around the states between. Any-transitions
+/// start at a small bar above left of their target, return transitions end at a small bar
+/// right of their source.
 pub fn graph(model: &GraphModel) -> Picture {
     let n = model.states.len();
     let mut index: HashMap<u64, usize> = HashMap::new();
     for (i, state) in model.states.iter().enumerate() {
         index.entry(state.number).or_insert(i);
     }
-    // Successors in text order.
-    let mut successors: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for trans in &model.transitions {
-        if let (End::State(s), End::State(t)) = (trans.source, trans.target) {
-            if let (Some(&s), Some(&t)) = (index.get(&s), index.get(&t)) {
-                successors[s].push(t);
-            }
-        }
-    }
+    let edges: Vec<(usize, usize)> = model
+        .transitions
+        .iter()
+        .filter_map(|trans| match (trans.source, trans.target) {
+            (End::State(s), End::State(t)) => Some((*index.get(&s)?, *index.get(&t)?)),
+            _ => None,
+        })
+        .collect();
     let start = model
         .initial
         .and_then(|number| index.get(&number).copied())
         .unwrap_or(0);
-    let mut layer: Vec<Option<usize>> = vec![None; n];
-    let mut layers: Vec<Vec<usize>> = Vec::new();
-    if n > 0 {
-        let mut queue = VecDeque::from([start]);
-        layer[start] = Some(0);
-        while let Some(s) = queue.pop_front() {
-            let depth = layer[s].unwrap_or(0);
-            if layers.len() <= depth {
-                layers.resize(depth + 1, Vec::new());
-            }
-            layers[depth].push(s);
-            for &t in &successors[s] {
-                if layer[t].is_none() {
-                    layer[t] = Some(depth + 1);
-                    queue.push_back(t);
-                }
-            }
-        }
-    }
-    let unreached: Vec<usize> = (0..n).filter(|&i| layer[i].is_none()).collect();
-    if !unreached.is_empty() {
-        layers.push(unreached);
-    }
-    let rows: Vec<Vec<usize>> = layers
-        .iter()
-        .flat_map(|l| l.chunks(MAX_PER_ROW).map(<[usize]>::to_vec))
-        .collect();
 
     let names: Vec<Option<String>> = model
         .states
@@ -376,35 +505,31 @@ pub fn graph(model: &GraphModel) -> Picture {
         .fold(0.0, f64::max);
     let column_width = (widest + 40.0).max(170.0);
 
+    let centres = super::layered::place(n, &edges, Some(start), column_width, ROW_HEIGHT);
     let mut router = Router::default();
     let mut node_of = vec![0; n];
-    for (r, row) in rows.iter().enumerate() {
-        let count = row.len() as f64;
-        for (c, &s) in row.iter().enumerate() {
-            let x = (c as f64 - (count - 1.0) / 2.0) * column_width;
-            let y = r as f64 * ROW_HEIGHT;
-            node_of[s] = router.add_node(Node {
-                x,
-                y,
-                outline: Outline::Circle(STATE_RADIUS),
-            });
-            let state = &model.states[s];
-            router.picture.shapes.push(Shape::Circle {
-                cx: x,
-                cy: y,
-                r: STATE_RADIUS,
-                double: s == start && model.initial.is_some(),
-            });
-            router.picture.shapes.push(Shape::Text(Text {
-                x,
-                y,
-                lines: vec![state.number.to_string()],
-                size: 14.0,
-                bold: true,
-            }));
-            if let Some(name) = &names[s] {
-                router.fixed_label(Text::new(x, y + STATE_RADIUS + 12.0, name.clone()));
-            }
+    for (s, &(x, y)) in centres.iter().enumerate() {
+        node_of[s] = router.add_node(Node {
+            x,
+            y,
+            outline: Outline::Circle(STATE_RADIUS),
+        });
+        let state = &model.states[s];
+        router.picture.shapes.push(Shape::Circle {
+            cx: x,
+            cy: y,
+            r: STATE_RADIUS,
+            double: s == start && model.initial.is_some(),
+        });
+        router.picture.shapes.push(Shape::Text(Text {
+            x,
+            y,
+            lines: vec![state.number.to_string()],
+            size: 14.0,
+            bold: true,
+        }));
+        if let Some(name) = &names[s] {
+            router.fixed_label(Text::new(x, y + STATE_RADIUS + 12.0, name.clone()));
         }
     }
 

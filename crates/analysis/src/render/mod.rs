@@ -6,6 +6,7 @@
 //! SVG.
 
 pub mod dot;
+mod layered;
 pub mod layout;
 pub mod model;
 pub mod picture;
@@ -65,6 +66,13 @@ impl Analysis {
         Ok(self.render_model(name)?.map(|model| model.picture()))
     }
 
+    /// Every graph, group or chart named `name` (case-insensitive), in workspace order, with
+    /// where it is declared. More than one makes [`Analysis::render`] an error naming them; the
+    /// command line asks for them to name the files its own way.
+    pub fn render_candidates(&self, name: &str) -> Cancellable<Vec<Candidate>> {
+        self.with_db(|db, ws| candidates(db, db::global_index(db, ws), name))
+    }
+
     /// The model of the graph, group or chart `name`.
     pub fn render_model(&self, name: &str) -> Cancellable<Result<Model, String>> {
         let found = self.with_db(|db, ws| Some(find(db, ws, name)))?;
@@ -76,12 +84,77 @@ impl Analysis {
     }
 }
 
+/// A graph, group or chart a name may mean, and where it is declared.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Candidate {
+    /// `graph`, `group` or `chart`.
+    pub kind: &'static str,
+    /// The name as declared.
+    pub name: String,
+    /// The file's workspace path.
+    pub file: String,
+    /// The 1-based line of the name.
+    pub line: u32,
+}
+
+/// The items a name may mean, in workspace order.
+fn candidates(
+    db: &dyn salsa::Database,
+    index: &crate::index::GlobalIndex,
+    name: &str,
+) -> Vec<Candidate> {
+    index
+        .items_named(name)
+        .filter_map(|item| {
+            let kind = match item.kind {
+                db::ItemKind::Graph => "graph",
+                db::ItemKind::Group => "group",
+                db::ItemKind::Chart => "chart",
+                _ => return None,
+            };
+            let offset = db::absolute_range(db, &item.name_loc).start();
+            let line = crate::LineIndex::new(item.file.contents(db).text())
+                .line_column(offset)
+                .line;
+            Some(Candidate {
+                kind,
+                name: item.name.clone(),
+                file: item.file.path(db).clone(),
+                line,
+            })
+        })
+        .collect()
+}
+
+/// The message for a name that several items share: `several graphs, groups or charts are
+/// named 'X' (rename all but one to draw it): graph X at a.higraph:3, group X at b.higraph:1`.
+/// `path` names a file (the command line names files relative to the current directory).
+pub fn ambiguity_message(
+    name: &str,
+    candidates: &[Candidate],
+    path: impl Fn(&str) -> String,
+) -> String {
+    let list: Vec<String> = candidates
+        .iter()
+        .map(|c| format!("{} {} at {}:{}", c.kind, c.name, path(&c.file), c.line))
+        .collect();
+    format!(
+        "{} items are named '{name}', so it is not clear which to draw (rename all but one): {}",
+        candidates.len(),
+        list.join(", ")
+    )
+}
+
 /// Finds and reads the item.
 fn find(db: &dyn salsa::Database, ws: db::Workspace, name: &str) -> Result<Model, String> {
     let index = db::global_index(db, ws);
     let Some(item) = index.item(name) else {
         return Err(not_found(index, name));
     };
+    let candidates = candidates(db, index, name);
+    if candidates.len() > 1 {
+        return Err(ambiguity_message(name, &candidates, str::to_owned));
+    }
     let loc = db::ItemLoc::new(db, item.file, item.item);
     let root =
         db::item_root(db, loc).ok_or_else(|| format!("'{}' could not be read", item.name))?;

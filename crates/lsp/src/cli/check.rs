@@ -15,6 +15,7 @@ use higraph_analysis::{AnalysisHost, FileId};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::output::{self, Report, Reported, SourceFile, Sources};
+use super::paths::OutputPaths;
 use super::{CheckArgs, CliError, ColorChoice, Deny, EXIT_FAILURE, Format, write_stdout};
 use crate::workspace;
 
@@ -30,12 +31,17 @@ pub(crate) fn run(args: &CheckArgs) -> Result<ExitCode, CliError> {
     let selected = loaded.selected.clone();
     host.load(loaded.data);
     let analysis = host.analysis();
+    let paths = OutputPaths::new(&workspace.root);
     let sources = Sources::new(
         analysis
             .files()
             .into_iter()
-            .map(|f| SourceFile::new(f.path, (*f.contents).clone()))
+            .map(|f| {
+                let shown = paths.name(&f.path);
+                SourceFile::new(f.path, shown, (*f.contents).clone())
+            })
             .collect(),
+        paths.root(),
     );
     let diagnostics = analysis.diagnostics();
     progress.finish();

@@ -8,7 +8,8 @@
 //! * The layout is the formatter's; line endings follow the file's first line break (a CR LF
 //!   file stays CR LF) and a byte-order mark is kept.
 //! * Standard output lists the files that were reformatted (with `--check`: that would be),
-//!   one workspace-relative path per line; a summary goes to standard error.
+//!   one path per line, relative to the current directory (`tooling.md` §2; absolute for a
+//!   file outside it); a summary goes to standard error.
 //! * A file with syntax errors, that cannot be read or is not UTF-8 is left alone and reported
 //!   on standard error with its first error.
 //! * Writes are atomic: the new text goes to a temporary file in the same folder, which then
@@ -27,6 +28,7 @@ use std::process::ExitCode;
 use higraph_analysis::format::{FormatError, format};
 use higraph_analysis::{FileContents, LineIndex};
 
+use super::paths::OutputPaths;
 use super::{CliError, EXIT_FAILURE, FmtArgs, io_reason, write_stdout};
 use crate::workspace::{self, FileFilter};
 
@@ -37,6 +39,7 @@ pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
         let _ = writeln!(stderr, "warning: {warning}");
     }
     let filter = FileFilter::for_workspace(&workspace.root);
+    let paths = OutputPaths::new(&workspace.root);
 
     let mut changed = Vec::new();
     let mut unchanged = 0usize;
@@ -47,10 +50,10 @@ pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
         }
         match format_file(&file.path, args.check) {
             Ok(Outcome::Unchanged) => unchanged += 1,
-            Ok(Outcome::Changed) => changed.push(file.name.clone()),
+            Ok(Outcome::Changed) => changed.push(paths.name(&file.name)),
             Err(problem) => {
                 failed += 1;
-                let _ = writeln!(stderr, "error: {}: {problem}", file.name);
+                let _ = writeln!(stderr, "error: {}: {problem}", paths.name(&file.name));
             }
         }
     }

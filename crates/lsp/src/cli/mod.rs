@@ -9,10 +9,11 @@ mod explain;
 mod fmt_command;
 mod output;
 mod parse;
+mod paths;
 mod render;
 
 use std::fmt;
-use std::io::{self, Write};
+use std::io::{self, IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -205,6 +206,13 @@ impl fmt::Display for CliError {
     }
 }
 
+/// What `higraph-lsp` without a command says on stderr when its input is a terminal.
+const TERMINAL_NOTICE: &str = "\
+higraph-lsp: this is the HiGraph language server. It speaks the Language Server Protocol on
+stdin/stdout and is meant to be started by an editor. Run `higraph-lsp --help` for the
+commands (check, fmt, render, explain, ...). Press Ctrl+D or Ctrl+C to stop.
+";
+
 /// Parses the command line and runs the command.
 pub fn run() -> ExitCode {
     // clap prints its own usage errors and exits with status 2; `--help` and `--version`
@@ -216,7 +224,14 @@ pub fn run() -> ExitCode {
         Some(Command::Fmt(args)) => fmt_command::run(&args),
         Some(Command::Explain(args)) => explain::run(&args),
         Some(Command::Render(args)) => render::run(&args),
-        Some(Command::Lsp(_)) | None => Ok(crate::server::run()),
+        Some(Command::Lsp(_)) | None => {
+            // Someone typed `higraph-lsp` in a terminal: say what this is. The server still
+            // runs (an editor never starts it on a terminal).
+            if io::stdin().is_terminal() {
+                let _ = io::stderr().write_all(TERMINAL_NOTICE.as_bytes());
+            }
+            Ok(crate::server::run())
+        }
     };
     match result {
         Ok(status) => status,

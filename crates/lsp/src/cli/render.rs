@@ -3,14 +3,16 @@
 //!
 //! The workspace is found and loaded as `check` does it (from the current folder, or from
 //! `--dir`). An unknown name is a usage error (exit status 2) whose message lists the graphs,
-//! groups and charts there are.
+//! groups and charts there are; so is a name that several of them share (the message names
+//! each with its file and line).
 
 use std::io::{self, Write as _};
 use std::process::ExitCode;
 
 use higraph_analysis::AnalysisHost;
-use higraph_analysis::render::RenderFormat as Format;
+use higraph_analysis::render::{RenderFormat as Format, ambiguity_message};
 
+use super::paths::OutputPaths;
 use super::{CliError, RenderArgs, RenderFormat, io_reason, write_stdout};
 use crate::workspace;
 
@@ -27,10 +29,22 @@ pub(crate) fn run(args: &RenderArgs) -> Result<ExitCode, CliError> {
         RenderFormat::Svg => Format::Svg,
         RenderFormat::Dot => Format::Dot,
     };
-    let text = host
-        .analysis()
+    let analysis = host.analysis();
+    let cancelled = |_| CliError::new("the analysis was cancelled");
+    // A name several items share is an error naming them, with files named as everywhere on
+    // the command line (relative to the current directory).
+    let candidates = analysis.render_candidates(&args.name).map_err(cancelled)?;
+    if candidates.len() > 1 {
+        let paths = OutputPaths::new(&workspace.root);
+        return Err(CliError::new(ambiguity_message(
+            &args.name,
+            &candidates,
+            |file| paths.name(file),
+        )));
+    }
+    let text = analysis
         .render(&args.name, format)
-        .map_err(|_| CliError::new("the analysis was cancelled"))?
+        .map_err(cancelled)?
         .map_err(CliError::new)?;
     match &args.output {
         Some(path) => std::fs::write(path, text.as_bytes()).map_err(|error| {

@@ -24,7 +24,7 @@ pub(super) fn render(report: &Report, sources: &Sources) -> String {
         let _ = writeln!(
             out,
             "::{command} file={},line={},col={},endLine={},endColumn={}::{}",
-            escape_property(&source.name),
+            escape_property(&source.shown),
             start.line,
             start.column,
             end.line,

@@ -38,7 +38,7 @@ pub(super) fn render(report: &Report, sources: &Sources, color: bool) -> String 
                 title.element(
                     Snippet::source(excerpt.text)
                         .line_start(excerpt.first_line)
-                        .path(source.name.as_str())
+                        .path(source.shown.as_str())
                         .annotation(AnnotationKind::Primary.span(excerpt.span)),
                 )
             }
@@ -80,7 +80,7 @@ fn level(severity: Severity) -> Level<'static> {
 /// `--> path:line:col` for the start of `range`.
 fn origin(source: &SourceFile, range: TextRange) -> Origin<'_> {
     let start = source.line_index.line_column(range.start());
-    Origin::path(source.name.as_str())
+    Origin::path(source.shown.as_str())
         .line(start.line as usize)
         .char_column(start.column as usize)
 }
@@ -177,6 +177,7 @@ mod tests {
     #[test]
     fn excerpt_normalises_line_breaks() {
         let source = SourceFile::new(
+            "a.higraph".into(),
             "a.higraph".into(),
             FileContents::Text("ab\rcd $\r\nef".into()),
         );

@@ -10,6 +10,8 @@ use super::{Report, Sources};
 #[derive(Serialize)]
 struct Output<'a> {
     version: u32,
+    /// The workspace root relative to the current directory (`tooling.md` §2).
+    root: &'a str,
     diagnostics: Vec<JsonDiagnostic<'a>>,
     summary: JsonSummary,
 }
@@ -132,6 +134,7 @@ pub(super) fn render(report: &Report, sources: &Sources) -> String {
     let summary = report.summary;
     let output = Output {
         version: 1,
+        root: &sources.root,
         diagnostics,
         summary: JsonSummary {
             errors: summary.errors,

@@ -19,8 +19,10 @@ use super::Format;
 
 /// A file whose diagnostics may be rendered: its name in output, its contents and index.
 pub(crate) struct SourceFile {
-    /// Workspace-relative `/` path.
+    /// Workspace-relative `/` path (`--format json`, and the order of the report).
     pub name: String,
+    /// The name relative to the current directory (every other format; `tooling.md` §2).
+    pub shown: String,
     /// The contents the diagnostics' ranges refer to.
     pub contents: FileContents,
     /// Line index of `contents.text()`.
@@ -28,10 +30,11 @@ pub(crate) struct SourceFile {
 }
 
 impl SourceFile {
-    pub(crate) fn new(name: String, contents: FileContents) -> SourceFile {
+    pub(crate) fn new(name: String, shown: String, contents: FileContents) -> SourceFile {
         let line_index = LineIndex::new(contents.text());
         SourceFile {
             name,
+            shown,
             contents,
             line_index,
         }
@@ -57,12 +60,15 @@ impl SourceFile {
 /// The files of a run, indexed by [`FileId`].
 pub(crate) struct Sources {
     files: Vec<SourceFile>,
+    /// The workspace root relative to the current directory (`--format json`'s `root`).
+    root: String,
 }
 
 impl Sources {
-    /// `files[i]` gets `FileId(i)`.
-    pub(crate) fn new(files: Vec<SourceFile>) -> Sources {
-        Sources { files }
+    /// `files[i]` gets `FileId(i)`; `root` is the workspace root relative to the current
+    /// directory.
+    pub(crate) fn new(files: Vec<SourceFile>, root: String) -> Sources {
+        Sources { files, root }
     }
 
     /// The output name of a file.

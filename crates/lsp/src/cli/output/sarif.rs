@@ -8,8 +8,8 @@
 //! and has:
 //!
 //! * `level`: error → `error`, warning → `warning`, info and hint → `note`;
-//! * one location: the workspace-relative path as a relative URI against the base id
-//!   `%SRCROOT%` (the workspace root), and a region with 1-based lines and 1-based columns
+//! * one location: the path relative to the current directory as a relative URI against the
+//!   base id `%SRCROOT%` (the folder the check ran in, usually the repository's checkout), and a region with 1-based lines and 1-based columns
 //!   counted in Unicode characters (the run says so with `columnKind: unicodeCodePoints`);
 //!   `endColumn` is the column just after the range, as SARIF defines it;
 //! * `relatedLocations` for the related locations, each with its note as message;
@@ -19,8 +19,8 @@
 //! Results come in the order of every other format ([`Report`]). The run declares `%SRCROOT%`
 //! in `originalUriBaseIds` without an absolute URI: the log stays the same wherever it is
 //! produced, and consumers such as GitHub code scanning resolve the relative URIs against the
-//! checkout. A file outside the workspace (only possible for an explicit `--config`) is
-//! written as an absolute `file://` URI without a base id.
+//! checkout. A file outside the current directory is written as an absolute `file://` URI
+//! without a base id.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -89,7 +89,7 @@ pub(super) fn render(report: &Report, sources: &Sources) -> String {
         SRCROOT.to_string(),
         sarif::ArtifactLocation::builder()
             .description(message(
-                "the workspace root: the folder holding higraph.toml, else the first checked folder",
+                "the folder the check ran in: file paths are relative to it",
             ))
             .build(),
     )]);
@@ -215,10 +215,10 @@ fn location(sources: &Sources, file: FileId, range: TextRange) -> sarif::Locatio
         .build()
 }
 
-/// The artifact location of a file: a relative URI against `%SRCROOT%`, or an absolute
-/// `file://` URI for a file outside the workspace.
+/// The artifact location of a file: a URI relative to the current directory against
+/// `%SRCROOT%`, or an absolute `file://` URI for a file outside the current directory.
 fn artifact_location(sources: &Sources, file: FileId) -> sarif::ArtifactLocation {
-    let name = sources.name(file);
+    let name = sources.get(file).shown.as_str();
     if let Some(uri) = absolute_file_uri(name) {
         sarif::ArtifactLocation::builder().uri(uri).build()
     } else {
@@ -229,8 +229,8 @@ fn artifact_location(sources: &Sources, file: FileId) -> sarif::ArtifactLocation
     }
 }
 
-/// The `file://` URI of an absolute output name (`/x/y` or `C:/x/y`), `None` for a
-/// workspace-relative one.
+/// The `file://` URI of an absolute output name (`/x/y` or `C:/x/y`), `None` for a relative
+/// one.
 fn absolute_file_uri(name: &str) -> Option<String> {
     if name.starts_with('/') {
         return Some(format!("file://{}", percent_encode_path(name)));

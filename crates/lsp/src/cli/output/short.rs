@@ -15,7 +15,7 @@ pub(super) fn render(report: &Report, sources: &Sources) -> String {
         let _ = writeln!(
             out,
             "{}:{}:{}: {}[{}]: {}",
-            source.name,
+            source.shown,
             start.line,
             start.column,
             diagnostic.severity,
