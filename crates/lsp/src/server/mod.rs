@@ -150,8 +150,19 @@ impl Backend {
                 "the analysis has stopped".into(),
             ));
         };
-        let outcome =
-            tokio::task::spawn_blocking(move || catch(|| handler(&snapshot, params))).await;
+        // tower-lsp-server drops this future when the client cancels the request: the guard
+        // then tells the blocking work, which cannot be aborted, to stop (before it starts,
+        // and at the check points of long computations).
+        let _cancel_on_drop = CancelOnDrop(snapshot.cancel_flag());
+        let outcome = tokio::task::spawn_blocking(move || {
+            catch(|| {
+                if snapshot.is_cancelled() {
+                    return Err(HandlerError::Cancelled);
+                }
+                handler(&snapshot, params)
+            })
+        })
+        .await;
         let failure = match outcome {
             Ok(Ok(value)) => return Ok(value),
             Ok(Err(failure)) => failure,
@@ -164,6 +175,16 @@ impl Backend {
                 .await;
         }
         Err(error)
+    }
+}
+
+/// Sets a request's cancellation flag when dropped: when the request's future is dropped
+/// before it completes (a cancelled request), and harmlessly after it completed.
+struct CancelOnDrop(Arc<AtomicBool>);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
     }
 }
 

@@ -9,7 +9,10 @@ use std::path::Path;
 use globset::{Glob, GlobSet, GlobSetBuilder};
 use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
 
-use super::{CONFIG_FILE, Workspace, WorkspaceError, display_name, io_reason};
+use super::{
+    CONFIG_FILE, Fence, MAX_CONFIG_BYTES, MAX_SOURCE_BYTES, Workspace, WorkspaceError,
+    display_name, read_regular,
+};
 
 /// What [`load`] read: the workspace data for the analysis, and which output paths are under
 /// the PATHs (their diagnostics are reported).
@@ -23,7 +26,10 @@ pub(crate) struct Loaded {
 
 /// Reads the configuration, every file of the workspace and the imported symbol tables. A
 /// file that cannot be read is not an error of the run: it becomes a diagnostic (HG6103) on
-/// that file. An unreadable `config` file (the command line's `--config`) is an error.
+/// that file (also a link out of the workspace, a FIFO or a file over
+/// [`MAX_SOURCE_BYTES`]); a symbol table outside the workspace is HG6101 on its entry and is
+/// not read. An unreadable configuration file (the workspace's `higraph.toml` or the command
+/// line's `--config`) is an error.
 pub(crate) fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loaded, WorkspaceError> {
     let mut selected = HashMap::new();
     let config_path = match config {
@@ -32,11 +38,15 @@ pub(crate) fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loade
     };
     let config = match &config_path {
         Some(path) => {
-            let bytes = std::fs::read(path).map_err(|error| {
+            // `--config` names a file the user chose; the workspace's own must be inside.
+            let bytes = match config {
+                Some(_) => read_regular(path, MAX_CONFIG_BYTES),
+                None => workspace.fence.read(path, MAX_CONFIG_BYTES),
+            }
+            .map_err(|reason| {
                 WorkspaceError::new(format!(
-                    "cannot read configuration file '{}': {}",
+                    "cannot read configuration file '{}': {reason}",
                     path.display(),
-                    io_reason(&error)
                 ))
             })?;
             // The configuration governs the whole run: its problems are reported whatever the
@@ -57,29 +67,62 @@ pub(crate) fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loade
         if !filter.accepts(&file.name) && !file.explicit {
             continue;
         }
-        let contents = match std::fs::read(&file.path) {
+        let contents = match workspace.fence.read(&file.path, MAX_SOURCE_BYTES) {
             Ok(bytes) => FileContents::from_bytes(bytes),
-            Err(error) => FileContents::unreadable(io_reason(&error)),
+            Err(reason) => FileContents::unreadable(reason),
         };
         selected.insert(file.name.clone(), file.selected);
         files.push((file.name.clone(), contents));
     }
     let mut imports = HashMap::new();
+    let mut refused_imports = HashMap::new();
+    // Symbol tables are named in the workspace's files: only the root is theirs to read.
+    let root_only = Fence::new(workspace.root.clone());
     for (entry, _) in &parsed.symbols {
         let path = workspace.root.join(entry);
-        let read = std::fs::read(&path).map_err(|error| io_reason(&error));
-        let absolute = std::fs::canonicalize(&path).unwrap_or(path);
-        selected.insert(entry.clone(), workspace.selects(&absolute));
-        imports.insert(entry.clone(), read);
+        match root_only.resolve(&path) {
+            Ok(real) => {
+                selected.insert(entry.clone(), workspace.selects(&real));
+                imports.insert(entry.clone(), read_regular(&real, MAX_SOURCE_BYTES));
+            }
+            Err(reason) if path.exists() || is_link(&path) => {
+                refused_imports.insert(
+                    entry.clone(),
+                    format!("symbol table '{entry}' cannot be used: {reason}"),
+                );
+            }
+            // A missing table is the import's own problem (HG6005); `..` still counts.
+            Err(_) if outside_by_name(entry) => {
+                refused_imports.insert(
+                    entry.clone(),
+                    format!("symbol table '{entry}' cannot be used: it is outside the workspace"),
+                );
+            }
+            Err(reason) => {
+                selected.insert(entry.clone(), workspace.selects(&path));
+                imports.insert(entry.clone(), Err(reason));
+            }
+        }
     }
     Ok(Loaded {
         data: WorkspaceData {
             files,
             config,
             imports,
+            refused_imports,
         },
         selected,
     })
+}
+
+fn is_link(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
+}
+
+/// Whether a `symbols` entry (normalised: `x/..` folded away) leaves the root by its
+/// spelling: absolute, or starting with `..`.
+fn outside_by_name(entry: &str) -> bool {
+    Path::new(entry).is_absolute() || entry == ".." || entry.starts_with("../")
 }
 
 /// The `include` / `exclude` globs of `higraph.toml`, matched against workspace-relative
@@ -101,7 +144,8 @@ impl FileFilter {
     /// The filter of the workspace's `higraph.toml` (the defaults when there is none or it
     /// cannot be read; `check` reports such problems).
     pub(crate) fn for_workspace(root: &Path) -> FileFilter {
-        let config = std::fs::read(root.join(CONFIG_FILE))
+        let config = Fence::new(root.to_path_buf())
+            .read(&root.join(CONFIG_FILE), MAX_CONFIG_BYTES)
             .map(|bytes| AnalysisHost::parse_config(&FileContents::from_bytes(bytes)))
             .unwrap_or_default();
         FileFilter::new(&config.include, &config.exclude)
