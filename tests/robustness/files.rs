@@ -207,8 +207,37 @@ fn a_fifo_named_like_a_source_is_hg6103_and_nothing_blocks() {
         "workspace/didChangeWatchedFiles",
         json!({"changes": [{"uri": file_uri(&ws.join("q.higraph")), "type": 1}]}),
     );
+    let q = file_uri(&ws.join("q.higraph"));
+    let published = server.wait_for("the diagnostics of q.higraph", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == q
+    });
+    assert_eq!(
+        published["params"]["diagnostics"][0]["message"],
+        "cannot read file: it is a FIFO (named pipe), not a regular file",
+        "{published}"
+    );
+    // So does a link out of the workspace.
+    tree.file("outside/secret.higraph", format!("graph {SECRET} < >\n"))
+        .link("ws/r.higraph", "../outside/secret.higraph");
+    let r = file_uri(&ws.join("r.higraph"));
+    server.notify(
+        "workspace/didChangeWatchedFiles",
+        json!({"changes": [{"uri": r, "type": 1}]}),
+    );
+    let published = server.wait_for("the diagnostics of r.higraph", |m| {
+        m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == r
+    });
+    assert_eq!(
+        published["params"]["diagnostics"][0]["message"],
+        "cannot read file: it is a link to a path outside the workspace",
+        "{published}"
+    );
     let symbols = server.request("workspace/symbol", json!({"query": "Ventil"}));
     assert!(symbols.is_ok(), "{symbols:?}");
+    let secret = server
+        .request("workspace/symbol", json!({"query": SECRET}))
+        .expect("symbols");
+    assert!(!secret.to_string().contains(SECRET), "{secret}");
     assert_eq!(server.shutdown_and_exit(), 0);
 }
 

@@ -556,6 +556,32 @@ graph Ventil <
     }
 
     #[test]
+    fn format_edits_stop_when_the_caller_cancels() {
+        let f = fixture::load("graph G <\n    state 0 < >\n>\n");
+        let analysis = f.host.analysis();
+        let asked = std::cell::Cell::new(0);
+        // Cancelled before the formatter runs.
+        let early = analysis.format_edits_with("main.higraph", &|| {
+            asked.set(asked.get() + 1);
+            true
+        });
+        assert!(early.is_err(), "{early:?}");
+        assert_eq!(asked.get(), 1);
+        // Cancelled while it ran: the result is dropped.
+        let late = analysis.format_edits_with("main.higraph", &|| {
+            asked.set(asked.get() + 1);
+            asked.get() > 2
+        });
+        assert!(late.is_err(), "{late:?}");
+        assert_eq!(asked.get(), 3);
+        let kept = analysis.format_edits_with("main.higraph", &|| false);
+        assert!(
+            matches!(kept, Ok(Ok(ref edits)) if edits.len() == 1),
+            "{kept:?}"
+        );
+    }
+
+    #[test]
     fn format_edits_refuse_files_with_syntax_errors() {
         let f = fixture::load("graph G < state 0 < C: U a > >\n");
         let analysis = f.host.analysis();
