@@ -192,6 +192,11 @@ impl Server {
         server
     }
 
+    /// The server's process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
     /// Sends raw bytes.
     pub fn send_raw(&mut self, bytes: &[u8]) {
         if let Some(stdin) = self.stdin.lock().expect("stdin lock").as_mut() {

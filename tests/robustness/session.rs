@@ -386,3 +386,56 @@ fn from_server(server: &Server, tree: &TempTree) -> BTreeSet<Comparable> {
     }
     all
 }
+
+/// The number of threads of a process (Linux: `/proc/PID/status`).
+#[cfg(target_os = "linux")]
+fn threads(pid: u32) -> usize {
+    std::fs::read_to_string(format!("/proc/{pid}/status"))
+        .expect("the server's status")
+        .lines()
+        .find_map(|line| line.strip_prefix("Threads:"))
+        .and_then(|n| n.trim().parse().ok())
+        .expect("a thread count")
+}
+
+/// A burst of requests does not get a thread each (and their memory): at most a few
+/// workers compute at once, the others wait for one.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_burst_of_requests_keeps_the_threads_bounded() {
+    let tree = TempTree::new();
+    let mut text = String::from(
+        "graph Gross <\n  in < Oben : BOOL; >\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n",
+    );
+    for state in 1..120 {
+        text.push_str(&format!(
+            "  state {state} < C: U Oben; = Oben; >\n  trans {}->{state} < U Oben; >\n",
+            state - 1
+        ));
+    }
+    text.push_str(">\n");
+    tree.file("gross.higraph", &text);
+    let mut server = Server::indexed(&tree.path());
+    let uri = tree.uri("gross.higraph");
+    let mut ids = Vec::new();
+    let mut most = 0;
+    for round in 0..600 {
+        let method = [
+            "textDocument/semanticTokens/full",
+            "textDocument/foldingRange",
+            "textDocument/documentSymbol",
+        ][round % 3];
+        ids.push(server.send_request(method, json!({"textDocument": {"uri": uri}})));
+        if round % 50 == 0 {
+            most = most.max(threads(server.pid()));
+        }
+    }
+    for id in &ids {
+        assert!(server.response(id).is_ok(), "{id}");
+        most = most.max(threads(server.pid()));
+    }
+    // Idle blocking threads stay for a while: the count now is about the most there were.
+    most = most.max(threads(server.pid()));
+    assert!(most <= 64, "{most} threads");
+    assert_eq!(server.shutdown_and_exit(), 0);
+}

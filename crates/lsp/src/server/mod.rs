@@ -44,6 +44,9 @@ pub fn run() -> ExitCode {
     let runtime = match tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .thread_name("higraph-lsp")
+        // The request workers plus a few for reading stdin and writing stdout (tokio's
+        // default allows 512 blocking threads).
+        .max_blocking_threads(request_workers() + 4)
         .build()
     {
         Ok(runtime) => runtime,
@@ -122,10 +125,12 @@ pub(crate) struct Backend {
 /// How many requests compute at once: twice the processors, at least 4, at most 32.
 ///
 /// Without a bound every request in a burst got a blocking thread of its own (tokio allows
-/// 512), and each thread keeps its stack, its allocator arena and salsa's per-thread state
-/// alive while the pool keeps it: 75 000 messages grew the server from 11 MB to 145 MB
-/// (measured: 517 threads). With the bound the number of threads, and the memory, stay
-/// small; a request waiting for a permit costs only its snapshot.
+/// 512), and each thread kept its stack, its allocator arena and salsa's per-thread state
+/// alive while the pool kept it: memory rose with every burst until the pool was full
+/// (`scripts/server-rss.py`, 75 000 requests on the drilling example, debug build: 406
+/// threads and 25 → 64 MB; bounded: 13 threads and 22 → 41 MB, flat after the first
+/// 5 000, the rest being the analysis' memoized results). A request waiting for a permit
+/// costs only its snapshot.
 fn request_workers() -> usize {
     let processors = std::thread::available_parallelism().map_or(2, |n| n.get());
     (processors * 2).clamp(4, 32)
