@@ -193,6 +193,7 @@ impl Server {
     }
 
     /// The server's process id.
+    #[allow(dead_code)] // used by tests/robustness.rs, not by tests/lsp.rs
     pub fn pid(&self) -> u32 {
         self.child.id()
     }
