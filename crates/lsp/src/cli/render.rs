@@ -21,7 +21,7 @@ use higraph_analysis::render::RenderFormat as Format;
 
 use super::fmt_command::write_atomically;
 use super::{CliError, RenderArgs, RenderFormat, io_reason, write_stdout};
-use crate::workspace::{self, CONFIG_FILE, EXTENSION, Workspace};
+use crate::workspace::{self, CONFIG_FILE, EXTENSION, Workspace, open_regular};
 
 pub(crate) fn run(args: &RenderArgs) -> Result<ExitCode, CliError> {
     let paths: Vec<_> = args.dir.iter().cloned().collect();
@@ -98,13 +98,13 @@ fn refusal(workspace: &Workspace, path: &Path) -> Option<String> {
     }
     // The first bytes tell a picture from anything else.
     let mut start = Vec::new();
-    match fs::File::open(&real) {
-        Ok(file) => {
-            if file.take(512).read_to_end(&mut start).is_err() {
-                return Some("it cannot be read to see what it holds".to_owned());
-            }
-        }
-        Err(_) => return Some("it cannot be read to see what it holds".to_owned()),
+    let read = open_regular(&real, u64::MAX).and_then(|(file, _)| {
+        file.take(512)
+            .read_to_end(&mut start)
+            .map_err(|e| e.to_string())
+    });
+    if read.is_err() {
+        return Some("it cannot be read to see what it holds".to_owned());
     }
     let text = String::from_utf8_lossy(&start);
     let text = text.trim_start_matches('\u{FEFF}').trim_start();

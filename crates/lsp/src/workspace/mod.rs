@@ -34,7 +34,9 @@ mod load;
 mod read;
 
 pub(crate) use load::{FileFilter, load};
-pub(crate) use read::{Fence, MAX_CONFIG_BYTES, MAX_SOURCE_BYTES, read_regular, size_text};
+pub(crate) use read::{
+    Fence, MAX_CONFIG_BYTES, MAX_SOURCE_BYTES, open_regular, read_regular, size_text,
+};
 
 /// The name of the workspace configuration file.
 pub(crate) const CONFIG_FILE: &str = "higraph.toml";

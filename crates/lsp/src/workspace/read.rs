@@ -27,6 +27,20 @@ pub(crate) const MAX_CONFIG_BYTES: u64 = 1024 * 1024;
 /// for a message: `it is a FIFO, not a regular file`, `it is larger than 32 MiB`, or the
 /// operating system's reason.
 pub(crate) fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let (file, length) = open_regular(path, limit)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0));
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|error| io_reason(&error))?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(limit));
+    }
+    Ok(bytes)
+}
+
+/// Opens a regular file of at most `limit` bytes for reading, without blocking; returns it
+/// with its length. The error is a reason as for [`read_regular`].
+pub(crate) fn open_regular(path: &Path, limit: u64) -> Result<(fs::File, u64), String> {
     let metadata = fs::metadata(path).map_err(|error| reason(path, &error))?;
     check_metadata(&metadata, limit)?;
     let mut options = fs::OpenOptions::new();
@@ -40,14 +54,7 @@ pub(crate) fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
     // The file may have been replaced since `metadata`: look at what was opened.
     let metadata = file.metadata().map_err(|error| io_reason(&error))?;
     check_metadata(&metadata, limit)?;
-    let mut bytes = Vec::with_capacity(usize::try_from(metadata.len()).unwrap_or(0));
-    file.take(limit.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(|error| io_reason(&error))?;
-    if bytes.len() as u64 > limit {
-        return Err(too_large(limit));
-    }
-    Ok(bytes)
+    Ok((file, metadata.len()))
 }
 
 /// Refuses anything but a regular file of at most `limit` bytes.
