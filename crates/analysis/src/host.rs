@@ -237,6 +237,13 @@ impl Analysis {
             .collect()
     }
 
+    /// A token that cancels this snapshot's queries (and only this snapshot's): they then
+    /// return `Err(Cancelled)` (or unwind with it), as when the host changes the database.
+    /// For a request the client no longer waits for.
+    pub fn cancellation_token(&self) -> salsa::CancellationToken {
+        salsa::Database::cancellation_token(&self.db)
+    }
+
     /// The diagnostics of every file.
     pub fn diagnostics(&self) -> Vec<(FileId, Vec<Diagnostic>)> {
         match self.workspace {

@@ -173,7 +173,10 @@ impl Backend {
         // tower-lsp-server drops this future when the client cancels the request: the guard
         // then tells the blocking work, which cannot be aborted, to stop (before it starts,
         // and at the check points of long computations).
-        let _cancel_on_drop = CancelOnDrop(snapshot.cancel_flag());
+        let _cancel_on_drop = CancelOnDrop(
+            snapshot.cancel_flag(),
+            snapshot.analysis.cancellation_token(),
+        );
         // At most `workers` requests compute at once; the others wait here, holding only
         // their snapshot (see `request_workers`).
         let Ok(permit) = self.workers.clone().acquire_owned().await else {
@@ -207,13 +210,16 @@ impl Backend {
     }
 }
 
-/// Sets a request's cancellation flag when dropped: when the request's future is dropped
-/// before it completes (a cancelled request), and harmlessly after it completed.
-struct CancelOnDrop(Arc<AtomicBool>);
+/// Cancels a request's computation when dropped: when the request's future is dropped
+/// before it completes (a cancelled request), and harmlessly after it completed. Sets the
+/// snapshot's flag (for computations outside salsa, such as formatting) and cancels its salsa
+/// queries, which then unwind at their next step.
+struct CancelOnDrop(Arc<AtomicBool>, salsa::CancellationToken);
 
 impl Drop for CancelOnDrop {
     fn drop(&mut self) {
         self.0.store(true, Ordering::Relaxed);
+        self.1.cancel();
     }
 }
 
@@ -607,6 +613,33 @@ mod tests {
             failure_error("hover", &failure).code,
             ErrorCode::ContentModified
         );
+    }
+
+    #[test]
+    fn a_cancelled_request_stops_its_running_queries_and_only_its_own() {
+        let host = host();
+        let analysis = host.analysis();
+        let other = host.analysis();
+        let token = analysis.cancellation_token();
+        let (started, running) = std::sync::mpsc::channel();
+        let request = std::thread::spawn(move || {
+            catch::<()>(|| {
+                let _ = started.send(());
+                // A request that runs until it is cancelled.
+                loop {
+                    analysis.diagnostics_cancellable()?;
+                }
+            })
+        });
+        running.recv().expect("the request runs");
+        // What `CancelOnDrop` does when the client cancels the request.
+        token.cancel();
+        let failure = request
+            .join()
+            .expect("the request thread ends")
+            .expect_err("cancelled");
+        assert!(matches!(failure, Failure::Cancelled), "{failure:?}");
+        assert!(other.diagnostics_cancellable().is_ok());
     }
 
     #[test]
