@@ -285,6 +285,24 @@ fn nothing_behind_a_link_out_of_the_workspace_is_read_or_printed() {
     // `plc/../../outside` is `../outside` once `..` is folded: one entry, reported on both.
     let hg6101 = diagnostics.iter().filter(|(_, c, _)| c == "HG6101").count();
     assert_eq!(hg6101, 3, "{diagnostics:?}");
+    // A `higraph.toml` that links out of the workspace is not read either.
+    let linked = tree.path().join("linked");
+    fs::create_dir_all(&linked).expect("linked");
+    tree.file(
+        "outside/secret.toml",
+        format!("[workspace]\n{SECRET} = 1\n"),
+    )
+    .file("linked/a.higraph", GRAPH)
+    .link("linked/higraph.toml", "../outside/secret.toml");
+    let refused = run(&linked, &["check"]);
+    assert_eq!(refused.status, 2, "{refused:?}");
+    assert!(
+        refused
+            .stderr
+            .contains("it is a link to a path outside the workspace"),
+        "{refused:?}"
+    );
+    assert!(!refused.all().contains(SECRET), "{refused:?}");
     // Named on the command line: the link is refused all the same.
     let named = run(&ws, &["check", "--format", "short", "env.higraph"]);
     assert!(named.stdout.contains(outside), "{named:?}");
