@@ -457,13 +457,25 @@ fn devices_and_oversized_files_are_refused_with_a_clear_message() {
             "{checked:?}"
         );
     }
-    // A `higraph.toml` that is a FIFO does not make a workspace root and is not opened.
+    // So is a `higraph.toml` that is a FIFO (found, but not opened).
     let other = tree.path().join("other");
     fs::create_dir_all(&other).expect("other");
     tree.file("other/a.higraph", GRAPH)
         .fifo("other/higraph.toml");
-    let checked = run(&other, &["check"]);
-    assert_eq!(checked.status, 0, "{checked:?}");
+    for args in [
+        &["check"][..],
+        &["fmt", "--check"],
+        &["render", "Ventil_2E"],
+    ] {
+        let refused = run(&other, args);
+        assert_eq!(refused.status, 2, "{args:?}: {refused:?}");
+        assert!(
+            refused
+                .stderr
+                .contains("higraph.toml': it is a FIFO (named pipe), not a regular file"),
+            "{args:?}: {refused:?}"
+        );
+    }
 }
 
 #[test]

@@ -40,7 +40,7 @@ pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
     for warning in warnings {
         let _ = writeln!(stderr, "warning: {warning}");
     }
-    let filter = FileFilter::for_workspace(&workspace.root);
+    let filter = FileFilter::for_workspace(&workspace)?;
 
     let mut changed = Vec::new();
     let mut unchanged = 0usize;

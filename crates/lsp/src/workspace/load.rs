@@ -32,31 +32,12 @@ pub(crate) struct Loaded {
 /// line's `--config`) is an error.
 pub(crate) fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loaded, WorkspaceError> {
     let mut selected = HashMap::new();
-    let config_path = match config {
-        Some(path) => Some(path.to_path_buf()),
-        None => Some(workspace.root.join(CONFIG_FILE)).filter(|p| p.is_file()),
-    };
-    let config = match &config_path {
-        Some(path) => {
-            // `--config` names a file the user chose; the workspace's own must be inside.
-            let bytes = match config {
-                Some(_) => read_regular(path, MAX_CONFIG_BYTES),
-                None => workspace.fence.read(path, MAX_CONFIG_BYTES),
-            }
-            .map_err(|reason| {
-                WorkspaceError::new(format!(
-                    "cannot read configuration file '{}': {reason}",
-                    path.display(),
-                ))
-            })?;
-            // The configuration governs the whole run: its problems are reported whatever the
-            // PATHs (`diagnostics.md` §4.3: an invalid `higraph.toml` counts under status 1).
-            let name = display_name(&workspace.root, path);
-            selected.insert(name.clone(), true);
-            Some((name, FileContents::from_bytes(bytes)))
-        }
-        None => None,
-    };
+    let config = read_config(workspace, config)?;
+    if let Some((name, _)) = &config {
+        // The configuration governs the whole run: its problems are reported whatever the
+        // PATHs (`diagnostics.md` §4.3: an invalid `higraph.toml` counts under status 1).
+        selected.insert(name.clone(), true);
+    }
     let parsed = config
         .as_ref()
         .map(|(_, contents)| AnalysisHost::parse_config(contents))
@@ -115,6 +96,32 @@ pub(crate) fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loade
     })
 }
 
+/// The configuration: `--config FILE` (a file the user chose), else the workspace's own
+/// `higraph.toml` if there is an entry of that name (which must be a regular file inside the
+/// workspace), with its output name. Either way at most [`MAX_CONFIG_BYTES`]; a file that
+/// cannot be read is an error of the run.
+fn read_config(
+    workspace: &Workspace,
+    config: Option<&Path>,
+) -> Result<Option<(String, FileContents)>, WorkspaceError> {
+    let own = workspace.root.join(CONFIG_FILE);
+    let (path, bytes) = match config {
+        Some(path) => (path, read_regular(path, MAX_CONFIG_BYTES)),
+        None if std::fs::symlink_metadata(&own).is_ok() => {
+            (own.as_path(), workspace.fence.read(&own, MAX_CONFIG_BYTES))
+        }
+        None => return Ok(None),
+    };
+    let bytes = bytes.map_err(|reason| {
+        WorkspaceError::new(format!(
+            "cannot read configuration file '{}': {reason}",
+            path.display(),
+        ))
+    })?;
+    let name = display_name(&workspace.root, path);
+    Ok(Some((name, FileContents::from_bytes(bytes))))
+}
+
 fn is_link(path: &Path) -> bool {
     std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
 }
@@ -141,14 +148,13 @@ impl FileFilter {
         }
     }
 
-    /// The filter of the workspace's `higraph.toml` (the defaults when there is none or it
-    /// cannot be read; `check` reports such problems).
-    pub(crate) fn for_workspace(root: &Path) -> FileFilter {
-        let config = Fence::new(root.to_path_buf())
-            .read(&root.join(CONFIG_FILE), MAX_CONFIG_BYTES)
-            .map(|bytes| AnalysisHost::parse_config(&FileContents::from_bytes(bytes)))
+    /// The filter of the workspace's `higraph.toml` (the defaults when there is none; an
+    /// error, as for `check`, when it cannot be read).
+    pub(crate) fn for_workspace(workspace: &Workspace) -> Result<FileFilter, WorkspaceError> {
+        let config = read_config(workspace, None)?
+            .map(|(_, contents)| AnalysisHost::parse_config(&contents))
             .unwrap_or_default();
-        FileFilter::new(&config.include, &config.exclude)
+        Ok(FileFilter::new(&config.include, &config.exclude))
     }
 
     /// Whether a workspace-relative path is a file of the workspace.

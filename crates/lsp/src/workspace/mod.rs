@@ -80,7 +80,8 @@ pub(crate) struct Workspace {
     pub root: PathBuf,
     /// The files, sorted by `name`.
     pub files: Vec<WorkspaceFile>,
-    /// The PATH arguments (canonical): diagnostics are reported for files under them.
+    /// The PATH arguments (absolute, see `Target`): diagnostics are reported for files
+    /// under them.
     pub targets: Vec<PathBuf>,
     /// What may be read: the root and the PATHs outside it.
     pub fence: Fence,
@@ -217,13 +218,14 @@ fn resolve(path: &Path) -> Result<Target, WorkspaceError> {
     })
 }
 
-/// The nearest folder upwards from `start` holding `higraph.toml`, else `start`. (A
-/// `higraph.toml` that is a FIFO or device does not make a root; one that links out of its
-/// folder's tree does, and is then refused when it is read.)
+/// The nearest folder upwards from `start` holding `higraph.toml`, else `start`. Any entry of
+/// that name counts (it is not opened here): one that is not a regular file inside the
+/// workspace — a FIFO, a folder, a dangling link or a link out — is then refused when the
+/// configuration is read, with a message, instead of being passed over silently.
 pub(crate) fn find_root(start: &Path) -> PathBuf {
     start
         .ancestors()
-        .find(|folder| folder.join(CONFIG_FILE).is_file())
+        .find(|folder| fs::symlink_metadata(folder.join(CONFIG_FILE)).is_ok())
         .unwrap_or(start)
         .to_path_buf()
 }
