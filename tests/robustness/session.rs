@@ -419,7 +419,7 @@ fn a_burst_of_requests_keeps_the_threads_bounded() {
     let uri = tree.uri("gross.higraph");
     let mut ids = Vec::new();
     let mut most = 0;
-    for round in 0..600 {
+    for round in 0..300 {
         let method = [
             "textDocument/semanticTokens/full",
             "textDocument/foldingRange",
