@@ -32,7 +32,7 @@ use higraph_analysis::format::{FormatError, format};
 use higraph_analysis::{FileContents, LineIndex};
 
 use super::{CliError, EXIT_FAILURE, FmtArgs, io_reason, write_stdout};
-use crate::workspace::{self, FileFilter, MAX_SOURCE_BYTES, Workspace, read_regular};
+use crate::workspace::{self, FileFilter, MAX_SOURCE_BYTES, Workspace};
 
 pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
     let (workspace, warnings) = workspace::discover(&args.paths)?;
@@ -95,8 +95,10 @@ fn format_file(workspace: &Workspace, path: &Path, check: bool) -> Result<Outcom
         .fence
         .resolve(path)
         .map_err(|reason| format!("cannot read: {reason}"))?;
-    let bytes =
-        read_regular(&real, MAX_SOURCE_BYTES).map_err(|reason| format!("cannot read: {reason}"))?;
+    let bytes = workspace
+        .fence
+        .read(&real, MAX_SOURCE_BYTES)
+        .map_err(|reason| format!("cannot read: {reason}"))?;
     let text = match FileContents::from_bytes(bytes) {
         FileContents::Text(text) => text,
         FileContents::NotUtf8 { invalid_offset, .. } => {

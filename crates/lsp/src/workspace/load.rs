@@ -64,7 +64,7 @@ pub(crate) fn load(workspace: &Workspace, config: Option<&Path>) -> Result<Loade
         match root_only.resolve(&path) {
             Ok(real) => {
                 selected.insert(entry.clone(), workspace.selects(&real));
-                imports.insert(entry.clone(), read_regular(&real, MAX_SOURCE_BYTES));
+                imports.insert(entry.clone(), root_only.read(&real, MAX_SOURCE_BYTES));
             }
             Err(reason) if path.exists() || is_link(&path) => {
                 refused_imports.insert(

@@ -27,7 +27,11 @@ pub(crate) const MAX_CONFIG_BYTES: u64 = 1024 * 1024;
 /// for a message: `it is a FIFO, not a regular file`, `it is larger than 32 MiB`, or the
 /// operating system's reason.
 pub(crate) fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
-    let (file, length) = open_regular(path, limit)?;
+    read_opened(open(path, limit, Links::Follow)?, limit)
+}
+
+/// Reads what [`open`] opened, at most `limit` bytes.
+fn read_opened((file, length): (fs::File, u64), limit: u64) -> Result<Vec<u8>, String> {
     let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0));
     file.take(limit.saturating_add(1))
         .read_to_end(&mut bytes)
@@ -41,6 +45,18 @@ pub(crate) fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
 /// Opens a regular file of at most `limit` bytes for reading, without blocking; returns it
 /// with its length. The error is a reason as for [`read_regular`].
 pub(crate) fn open_regular(path: &Path, limit: u64) -> Result<(fs::File, u64), String> {
+    open(path, limit, Links::Follow)
+}
+
+/// Whether the last component of a path may be a link.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Links {
+    Follow,
+    /// For a path already resolved: a link put there meanwhile is refused (Unix).
+    Refuse,
+}
+
+fn open(path: &Path, limit: u64, links: Links) -> Result<(fs::File, u64), String> {
     let metadata = fs::metadata(path).map_err(|error| reason(path, &error))?;
     check_metadata(&metadata, limit)?;
     let mut options = fs::OpenOptions::new();
@@ -48,8 +64,14 @@ pub(crate) fn open_regular(path: &Path, limit: u64) -> Result<(fs::File, u64), S
     #[cfg(unix)]
     {
         use std::os::unix::fs::OpenOptionsExt as _;
-        options.custom_flags(libc::O_NONBLOCK);
+        let no_follow = match links {
+            Links::Follow => 0,
+            Links::Refuse => libc::O_NOFOLLOW,
+        };
+        options.custom_flags(libc::O_NONBLOCK | no_follow);
     }
+    #[cfg(not(unix))]
+    let _ = links;
     let file = options.open(path).map_err(|error| reason(path, &error))?;
     // The file may have been replaced since `metadata`: look at what was opened.
     let metadata = file.metadata().map_err(|error| io_reason(&error))?;
@@ -155,7 +177,7 @@ impl Fence {
     /// Reads a file that is inside the fence (see [`read_regular`]).
     pub(crate) fn read(&self, path: &Path, limit: u64) -> Result<Vec<u8>, String> {
         let real = self.resolve(path)?;
-        read_regular(&real, limit)
+        read_opened(open(&real, limit, Links::Refuse)?, limit)
     }
 }
 
