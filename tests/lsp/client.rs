@@ -203,6 +203,12 @@ impl Server {
         server
     }
 
+    /// The server's process id.
+    #[allow(dead_code)] // used by tests/robustness.rs, not by tests/lsp.rs
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
     /// Sends raw bytes.
     pub fn send_raw(&mut self, bytes: &[u8]) {
         if let Some(stdin) = self.stdin.lock().expect("stdin lock").as_mut() {

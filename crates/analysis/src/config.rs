@@ -103,10 +103,26 @@ impl Config {
         config
     }
 
+    /// Drops the `symbols` entries the reader refused (a table outside the workspace),
+    /// reporting each problem on its entry (HG6101).
+    pub fn refuse_symbols(&mut self, refused: &std::collections::HashMap<String, String>) {
+        if refused.is_empty() {
+            return;
+        }
+        let problems = &mut self.problems;
+        self.symbols.retain(|(path, at)| match refused.get(path) {
+            Some(problem) => {
+                problems.push((*at, problem.clone()));
+                false
+            }
+            None => true,
+        });
+    }
+
     /// The severity of `code` after overrides; `None` if the rule is off.
     pub fn severity(&self, code: &str) -> Level {
         if let Some(level) = self.severities.get(code) {
-            if !registry::is_syntax_code(code) {
+            if !is_fixed(code) {
                 return *level;
             }
         }
@@ -208,6 +224,15 @@ impl Config {
                 ));
                 continue;
             }
+            if code == CONFIG_PROBLEM {
+                self.problems.push((
+                    range(key.span()),
+                    format!(
+                        "{code} reports the problems of this file and its severity cannot be changed"
+                    ),
+                ));
+                continue;
+            }
             let level = match value.get_ref() {
                 DeValue::String(s) => match s.as_ref() {
                     "error" => Some(Some(Severity::Error)),
@@ -232,6 +257,15 @@ impl Config {
             }
         }
     }
+}
+
+/// The code of the configuration's own problems: it cannot be turned off or down, so a
+/// broken `higraph.toml` is never silent.
+const CONFIG_PROBLEM: &str = "HG6101";
+
+/// Codes whose severity the configuration cannot change: the syntax errors and HG6101.
+fn is_fixed(code: &str) -> bool {
+    registry::is_syntax_code(code) || code == CONFIG_PROBLEM
 }
 
 /// A workspace-relative path as output names files (`diagnostics.md` §4.1): `/`
@@ -292,6 +326,43 @@ mod tests {
             .find(|(_, p)| p.contains("workspace.foo"))
             .expect("the unknown key is reported");
         assert_eq!(&text[std::ops::Range::<usize>::from(*r)], "foo");
+    }
+
+    #[test]
+    fn the_configuration_problem_code_cannot_be_changed() {
+        let text = "[diagnostics]\nHG6101 = \"off\"\n[workspace]\nfoo = 1\n";
+        let config = Config::parse(text);
+        assert_eq!(config.severity("HG6101"), Some(Severity::Error));
+        let problems: Vec<(&str, &str)> = config
+            .problems
+            .iter()
+            .map(|(at, p)| (&text[std::ops::Range::<usize>::from(*at)], p.as_str()))
+            .collect();
+        assert_eq!(
+            problems,
+            [
+                (
+                    "HG6101",
+                    "HG6101 reports the problems of this file and its severity cannot be changed"
+                ),
+                ("foo", "unknown key 'workspace.foo'"),
+            ]
+        );
+    }
+
+    #[test]
+    fn refused_symbol_tables_are_problems_on_their_entries() {
+        let text = "[workspace]\nsymbols = [\"a.sdf\", \"../b.sdf\"]\n";
+        let mut config = Config::parse(text);
+        let refused = [("../b.sdf".to_owned(), "outside".to_owned())].into();
+        config.refuse_symbols(&refused);
+        assert_eq!(config.symbols.len(), 1);
+        assert_eq!(config.symbols[0].0, "a.sdf");
+        let [(at, problem)] = config.problems.as_slice() else {
+            panic!("one problem expected: {:?}", config.problems);
+        };
+        assert_eq!(problem, "outside");
+        assert_eq!(&text[std::ops::Range::<usize>::from(*at)], "\"../b.sdf\"");
     }
 
     #[test]

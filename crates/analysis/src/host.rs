@@ -23,6 +23,9 @@ pub struct WorkspaceData {
     /// For each `workspace.symbols` entry of the configuration, the file's bytes or why it
     /// could not be read.
     pub imports: HashMap<String, Result<Vec<u8>, String>>,
+    /// `workspace.symbols` entries the reader refused to read (a table outside the
+    /// workspace), with the problem: HG6101 on the entry; the table is not imported.
+    pub refused_imports: HashMap<String, String>,
 }
 
 /// Owns the database.
@@ -53,11 +56,12 @@ impl AnalysisHost {
 
     /// Replaces the whole workspace.
     pub fn load(&mut self, data: WorkspaceData) {
-        let config = data
+        let mut config = data
             .config
             .as_ref()
             .map(|(_, contents)| Config::of_contents(contents))
             .unwrap_or_default();
+        config.refuse_symbols(&data.refused_imports);
         let mut paths: Vec<(String, FileContents)> = data.files;
         paths.sort_by(|a, b| a.0.cmp(&b.0));
         let db = &mut self.db;
@@ -231,6 +235,13 @@ impl Analysis {
                 contents: f.contents(&self.db).clone(),
             })
             .collect()
+    }
+
+    /// A token that cancels this snapshot's queries (and only this snapshot's): they then
+    /// return `Err(Cancelled)` (or unwind with it), as when the host changes the database.
+    /// For a request the client no longer waits for.
+    pub fn cancellation_token(&self) -> salsa::CancellationToken {
+        salsa::Database::cancellation_token(&self.db)
     }
 
     /// The diagnostics of every file.

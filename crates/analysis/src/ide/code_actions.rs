@@ -65,6 +65,18 @@ impl Analysis {
     /// message for the user when the file has syntax errors, is not text, or is not in the
     /// workspace.
     pub fn format_edits(&self, path: &str) -> Cancellable<Result<Vec<Edit>, String>> {
+        self.format_edits_with(path, &|| false)
+    }
+
+    /// [`Analysis::format_edits`] for a request its caller may cancel: `Err(Cancelled)` when
+    /// `is_cancelled` says so, or the host changed the database, before the formatter runs
+    /// or after it (its result is then not worth diffing and sending).
+    pub fn format_edits_with(
+        &self,
+        path: &str,
+        is_cancelled: &dyn Fn() -> bool,
+    ) -> Cancellable<Result<Vec<Edit>, String>> {
+        self.check_cancelled(is_cancelled)?;
         let Some(contents) = self.file_contents(path) else {
             return Ok(Err(format!("'{path}' is not a file of the workspace")));
         };
@@ -73,11 +85,22 @@ impl Analysis {
                 "'{path}' cannot be formatted: it is not UTF-8 text"
             )));
         };
-        // Formatting needs only the text: nothing to cancel.
-        Ok(match format::format(text) {
+        let formatted = format::format(text);
+        self.check_cancelled(is_cancelled)?;
+        Ok(match formatted {
             Ok(formatted) => Ok(line_diff(text, &formatted)),
             Err(error) => Err(format!("'{path}' cannot be formatted: {error}")),
         })
+    }
+
+    /// `Err(Cancelled)` if `is_cancelled` says so or the host wants to write.
+    fn check_cancelled(&self, is_cancelled: &dyn Fn() -> bool) -> Cancellable<()> {
+        if is_cancelled() {
+            return Err(salsa::Cancelled::Local);
+        }
+        salsa::Cancelled::catch(std::panic::AssertUnwindSafe(|| {
+            salsa::Database::unwind_if_revision_cancelled(&self.db);
+        }))
     }
 }
 
@@ -585,6 +608,32 @@ graph Ventil <
         assert_eq!(
             g.host.analysis().format_edits("main.higraph").ok(),
             Some(Ok(Vec::new()))
+        );
+    }
+
+    #[test]
+    fn format_edits_stop_when_the_caller_cancels() {
+        let f = fixture::load("graph G <\n    state 0 < >\n>\n");
+        let analysis = f.host.analysis();
+        let asked = std::cell::Cell::new(0);
+        // Cancelled before the formatter runs.
+        let early = analysis.format_edits_with("main.higraph", &|| {
+            asked.set(asked.get() + 1);
+            true
+        });
+        assert!(early.is_err(), "{early:?}");
+        assert_eq!(asked.get(), 1);
+        // Cancelled while it ran: the result is dropped.
+        let late = analysis.format_edits_with("main.higraph", &|| {
+            asked.set(asked.get() + 1);
+            asked.get() > 2
+        });
+        assert!(late.is_err(), "{late:?}");
+        assert_eq!(asked.get(), 3);
+        let kept = analysis.format_edits_with("main.higraph", &|| false);
+        assert!(
+            matches!(kept, Ok(Ok(ref edits)) if edits.len() == 1),
+            "{kept:?}"
         );
     }
 

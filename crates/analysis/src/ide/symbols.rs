@@ -869,6 +869,7 @@ Instance Bohrmaschine.Spanner (group.higraph: Spanner)
                 crate::FileContents::Text("[workspace]\nsymbols = [\"plc.sdf\"]\n".to_owned()),
             )),
             imports: [("plc.sdf".to_owned(), Ok(sdf))].into_iter().collect(),
+            ..Default::default()
         };
         let mut host = crate::AnalysisHost::new();
         host.load(data);

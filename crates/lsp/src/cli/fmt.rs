@@ -15,6 +15,10 @@
 //! * Writes are atomic: the new text goes to a temporary file in the same folder, which then
 //!   replaces the file by a rename; the file's permissions are kept. A symbolic link is
 //!   followed, so the file it points to is rewritten and the link stays a link.
+//! * Nothing outside the workspace root is written: a link out of the workspace is not even
+//!   read (as for `check`), and a file PATH outside the root (the root is found from the
+//!   first PATH) is checked with `--check` but never rewritten; both are reported as errors.
+//!   Only regular files up to the size limit of sources are read.
 //! * Exit status: 0 when every file is formatted (with `--check`: already formatted); 1 when a
 //!   file has syntax errors or could not be read or written, or with `--check` when a file would
 //!   change; 2 for usage errors and PATHs that do not exist.
@@ -30,7 +34,7 @@ use higraph_analysis::{FileContents, LineIndex};
 
 use super::paths::OutputPaths;
 use super::{CliError, EXIT_FAILURE, FmtArgs, io_reason, write_stdout};
-use crate::workspace::{self, FileFilter};
+use crate::workspace::{self, FileFilter, MAX_SOURCE_BYTES, Workspace};
 
 pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
     let (workspace, warnings) = workspace::discover(&args.paths)?;
@@ -38,7 +42,7 @@ pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
     for warning in warnings {
         let _ = writeln!(stderr, "warning: {warning}");
     }
-    let filter = FileFilter::for_workspace(&workspace.root);
+    let filter = FileFilter::for_workspace(&workspace)?;
     let paths = OutputPaths::new(&workspace.root);
 
     let mut changed = Vec::new();
@@ -48,7 +52,7 @@ pub(crate) fn run(args: &FmtArgs) -> Result<ExitCode, CliError> {
         if !file.selected || !(file.explicit || filter.accepts(&file.name)) {
             continue;
         }
-        match format_file(&file.path, args.check) {
+        match format_file(&workspace, &file.path, args.check) {
             Ok(Outcome::Unchanged) => unchanged += 1,
             Ok(Outcome::Changed) => changed.push(paths.name(&file.name)),
             Err(problem) => {
@@ -89,8 +93,15 @@ enum Outcome {
 
 /// Formats one file; with `check`, only tells whether it would change. The error is a
 /// one-line description of why the file was left alone.
-fn format_file(path: &Path, check: bool) -> Result<Outcome, String> {
-    let bytes = fs::read(path).map_err(|error| format!("cannot read: {}", io_reason(&error)))?;
+fn format_file(workspace: &Workspace, path: &Path, check: bool) -> Result<Outcome, String> {
+    let real = workspace
+        .fence
+        .resolve(path)
+        .map_err(|reason| format!("cannot read: {reason}"))?;
+    let bytes = workspace
+        .fence
+        .read(&real, MAX_SOURCE_BYTES)
+        .map_err(|reason| format!("cannot read: {reason}"))?;
     let text = match FileContents::from_bytes(bytes) {
         FileContents::Text(text) => text,
         FileContents::NotUtf8 { invalid_offset, .. } => {
@@ -105,7 +116,14 @@ fn format_file(path: &Path, check: bool) -> Result<Outcome, String> {
         return Ok(Outcome::Unchanged);
     }
     if !check {
-        write_atomically(path, formatted.as_bytes())
+        if !real.starts_with(&workspace.root) {
+            return Err(format!(
+                "not written: it is outside the workspace root '{}' (the workspace is found from the first PATH); left unchanged",
+                workspace.root.display()
+            ));
+        }
+        // `real` is the file itself, no link: the rename replaces exactly it.
+        write_atomically(&real, formatted.as_bytes())
             .map_err(|error| format!("cannot write: {}", io_reason(&error)))?;
     }
     Ok(Outcome::Changed)
@@ -159,11 +177,30 @@ fn summary(check: bool, changed: usize, unchanged: usize, failed: usize) -> Stri
     parts.join(", ")
 }
 
-/// Replaces the contents of `path` (following a symbolic link) by writing a temporary file in
-/// the same folder and renaming it over the original. The original's permissions are kept.
-fn write_atomically(path: &Path, contents: &[u8]) -> io::Result<()> {
-    let target = fs::canonicalize(path)?;
-    let permissions = fs::metadata(&target)?.permissions();
+/// Replaces the contents of `path` (following a symbolic link), or creates it, by writing a
+/// temporary file in the same folder and renaming it over the original. The original's
+/// permissions are kept.
+pub(crate) fn write_atomically(path: &Path, contents: &[u8]) -> io::Result<()> {
+    let target = match fs::canonicalize(path) {
+        Ok(target) => target,
+        // A new file (not a dangling link): in its folder's real place.
+        Err(error)
+            if error.kind() == io::ErrorKind::NotFound && fs::symlink_metadata(path).is_err() =>
+        {
+            let name = path.file_name().ok_or(error)?;
+            let folder = match path.parent() {
+                Some(folder) if !folder.as_os_str().is_empty() => folder,
+                _ => Path::new("."),
+            };
+            fs::canonicalize(folder)?.join(name)
+        }
+        Err(error) => return Err(error),
+    };
+    let permissions = match fs::metadata(&target) {
+        Ok(metadata) => Some(metadata.permissions()),
+        Err(error) if error.kind() == io::ErrorKind::NotFound => None,
+        Err(error) => return Err(error),
+    };
     let folder = target.parent().unwrap_or_else(|| Path::new("."));
     let name = target
         .file_name()
@@ -178,7 +215,9 @@ fn write_atomically(path: &Path, contents: &[u8]) -> io::Result<()> {
         file.write_all(contents)?;
         file.sync_all()?;
         drop(file);
-        fs::set_permissions(&temporary, permissions)?;
+        if let Some(permissions) = permissions {
+            fs::set_permissions(&temporary, permissions)?;
+        }
         fs::rename(&temporary, &target)
     })();
     if result.is_err() {

@@ -129,6 +129,10 @@ pub(crate) struct RenderArgs {
     /// `check` finds it.
     #[arg(long, value_name = "DIR")]
     pub dir: Option<std::path::PathBuf>,
+    /// Let `-o` replace a file that is not a picture (a source file, or any file whose text
+    /// does not start with `<svg`, `<?xml` or `digraph`).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// The output formats of `render`.

@@ -1,6 +1,7 @@
 //! `higraph-lsp parse FILE`: prints the lossless syntax tree (`Parse::debug_tree`) to stdout
 //! and the syntax errors to stderr. Syntax errors do not change the exit status (0); a file
-//! that cannot be read, or is not UTF-8 text, is a usage error (2).
+//! that cannot be read (also: not a regular file, or over 32 MiB), or is not UTF-8 text, is a
+//! usage error (2).
 
 use std::fmt::Write as _;
 use std::io::{self, Write as _};
@@ -8,12 +9,14 @@ use std::process::ExitCode;
 
 use higraph_analysis::{FileContents, LineIndex};
 
-use super::{CliError, ParseArgs, io_reason, write_stdout};
+use super::{CliError, ParseArgs, write_stdout};
+use crate::workspace::{MAX_SOURCE_BYTES, read_regular};
 
 pub(crate) fn run(args: &ParseArgs) -> Result<ExitCode, CliError> {
     let path = args.file.display();
-    let bytes = std::fs::read(&args.file)
-        .map_err(|error| CliError::new(format!("cannot read '{path}': {}", io_reason(&error))))?;
+    // Only a regular file of at most 32 MiB (a FIFO or device would block or never end).
+    let bytes = read_regular(&args.file, MAX_SOURCE_BYTES)
+        .map_err(|reason| CliError::new(format!("cannot read '{path}': {reason}")))?;
     let text = match FileContents::from_bytes(bytes) {
         FileContents::Text(text) => text,
         FileContents::NotUtf8 { invalid_offset, .. } => {

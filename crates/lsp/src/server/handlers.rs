@@ -406,7 +406,11 @@ pub(crate) fn formatting(
     let Some((path, index)) = file(snapshot, &params.text_document) else {
         return Ok(None);
     };
-    match snapshot.analysis.format_edits(&path)? {
+    // A long formatting stops as soon as the client cancels it (`$/cancelRequest`) or edits.
+    match snapshot
+        .analysis
+        .format_edits_with(&path, &|| snapshot.is_cancelled())?
+    {
         Ok(edits) => Ok(Some(
             edits
                 .iter()

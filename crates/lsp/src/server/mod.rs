@@ -44,6 +44,9 @@ pub fn run() -> ExitCode {
     let runtime = match tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .thread_name("higraph-lsp")
+        // The request workers plus a few for reading stdin and writing stdout (tokio's
+        // default allows 512 blocking threads).
+        .max_blocking_threads(request_workers() + 4)
         .build()
     {
         Ok(runtime) => runtime,
@@ -72,6 +75,7 @@ async fn serve_stdio() -> bool {
         world,
         support: OnceLock::new(),
         shut_down: shut_down.clone(),
+        workers: Arc::new(tokio::sync::Semaphore::new(request_workers())),
     })
     .custom_method("higraph/render", Backend::render)
     .finish();
@@ -114,6 +118,22 @@ pub(crate) struct Backend {
     support: OnceLock<ClientSupport>,
     /// Set by `shutdown`: a following `exit` ends with status 0.
     shut_down: Arc<AtomicBool>,
+    /// Permits to run a request's computation on a blocking thread (see [`request_workers`]).
+    workers: Arc<tokio::sync::Semaphore>,
+}
+
+/// How many requests compute at once: twice the processors, at least 4, at most 32.
+///
+/// Without a bound every request in a burst got a blocking thread of its own (tokio allows
+/// 512), and each thread kept its stack, its allocator arena and salsa's per-thread state
+/// alive while the pool kept it: memory rose with every burst until the pool was full
+/// (`scripts/server-rss.py`, 75 000 requests on the drilling example, debug build: 406
+/// threads and 25 → 64 MB; bounded: 13 threads and 22 → 41 MB, flat after the first
+/// 5 000, the rest being the analysis' memoized results). A request waiting for a permit
+/// costs only its snapshot.
+fn request_workers() -> usize {
+    let processors = std::thread::available_parallelism().map_or(2, |n| n.get());
+    (processors * 2).clamp(4, 32)
 }
 
 impl Backend {
@@ -150,8 +170,31 @@ impl Backend {
                 "the analysis has stopped".into(),
             ));
         };
-        let outcome =
-            tokio::task::spawn_blocking(move || catch(|| handler(&snapshot, params))).await;
+        // tower-lsp-server drops this future when the client cancels the request: the guard
+        // then tells the blocking work, which cannot be aborted, to stop (before it starts,
+        // and at the check points of long computations).
+        let _cancel_on_drop = CancelOnDrop(
+            snapshot.cancel_flag(),
+            snapshot.analysis.cancellation_token(),
+        );
+        // At most `workers` requests compute at once; the others wait here, holding only
+        // their snapshot (see `request_workers`).
+        let Ok(permit) = self.workers.clone().acquire_owned().await else {
+            return Err(rpc_error(
+                ErrorCode::InternalError,
+                "the request workers have stopped".into(),
+            ));
+        };
+        let outcome = tokio::task::spawn_blocking(move || {
+            let _permit = permit;
+            catch(|| {
+                if snapshot.is_cancelled() {
+                    return Err(HandlerError::Cancelled);
+                }
+                handler(&snapshot, params)
+            })
+        })
+        .await;
         let failure = match outcome {
             Ok(Ok(value)) => return Ok(value),
             Ok(Err(failure)) => failure,
@@ -164,6 +207,19 @@ impl Backend {
                 .await;
         }
         Err(error)
+    }
+}
+
+/// Cancels a request's computation when dropped: when the request's future is dropped
+/// before it completes (a cancelled request), and harmlessly after it completed. Sets the
+/// snapshot's flag (for computations outside salsa, such as formatting) and cancels its salsa
+/// queries, which then unwind at their next step.
+struct CancelOnDrop(Arc<AtomicBool>, salsa::CancellationToken);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
+        self.1.cancel();
     }
 }
 
@@ -557,6 +613,33 @@ mod tests {
             failure_error("hover", &failure).code,
             ErrorCode::ContentModified
         );
+    }
+
+    #[test]
+    fn a_cancelled_request_stops_its_running_queries_and_only_its_own() {
+        let host = host();
+        let analysis = host.analysis();
+        let other = host.analysis();
+        let token = analysis.cancellation_token();
+        let (started, running) = std::sync::mpsc::channel();
+        let request = std::thread::spawn(move || {
+            catch::<()>(|| {
+                let _ = started.send(());
+                // A request that runs until it is cancelled.
+                loop {
+                    analysis.diagnostics_cancellable()?;
+                }
+            })
+        });
+        running.recv().expect("the request runs");
+        // What `CancelOnDrop` does when the client cancels the request.
+        token.cancel();
+        let failure = request
+            .join()
+            .expect("the request thread ends")
+            .expect_err("cancelled");
+        assert!(matches!(failure, Failure::Cancelled), "{failure:?}");
+        assert!(other.diagnostics_cancellable().is_ok());
     }
 
     #[test]

@@ -22,6 +22,7 @@ use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 
@@ -159,6 +160,8 @@ pub(crate) struct Snapshot {
     line_indexes: RefCell<HashMap<String, Arc<LineIndex>>>,
     /// The line indexes of the files that are not open, shared by all snapshots.
     shared_indexes: SharedLineIndexes,
+    /// Set when the client no longer waits for the request's answer (`$/cancelRequest`).
+    cancelled: Arc<AtomicBool>,
 }
 
 /// The line indexes of files that are not open, by workspace path, with the contents they
@@ -181,6 +184,17 @@ impl UriKey {
 }
 
 impl Snapshot {
+    /// Whether the client cancelled the request this snapshot serves: long computations look
+    /// at it between steps and stop.
+    pub(crate) fn is_cancelled(&self) -> bool {
+        self.cancelled.load(Ordering::Relaxed)
+    }
+
+    /// The flag [`Snapshot::is_cancelled`] reads, for the request's owner to set.
+    pub(crate) fn cancel_flag(&self) -> Arc<AtomicBool> {
+        self.cancelled.clone()
+    }
+
     /// The workspace path of a URI (`None` for URIs that name no file).
     pub(crate) fn path(&self, uri: &Uri) -> Option<String> {
         self.paths.name(uri)
@@ -386,6 +400,7 @@ impl World {
             open_uris: self.open_uris.clone(),
             line_indexes: RefCell::new(line_indexes),
             shared_indexes: self.shared_indexes.clone(),
+            cancelled: Arc::new(AtomicBool::new(false)),
         }
     }
 
@@ -424,7 +439,7 @@ impl World {
             if !document.analysed {
                 continue;
             }
-            let contents = FileContents::Text(document.text.clone());
+            let contents = document_contents(&document.text);
             match data.files.iter_mut().find(|(path, _)| path == name) {
                 Some(file) => file.1 = contents,
                 None => data.files.push((name.clone(), contents)),
@@ -448,8 +463,7 @@ impl World {
         };
         let analysed = name.ends_with(&format!(".{EXTENSION}")) || language_id == "higraph";
         if analysed {
-            self.host
-                .upsert_file(&name, FileContents::Text(text.clone()));
+            self.host.upsert_file(&name, document_contents(&text));
             self.revision += 1;
             self.republish.insert(name.clone());
         }
@@ -489,6 +503,7 @@ impl World {
                 // whole text was replaced), the whole text is set.
                 let edited = match &changed {
                     Changed::Edits(edits) if edits.is_empty() => return,
+                    _ if too_large(&document.text) => false,
                     Changed::Edits(edits) => self
                         .host
                         .apply_edits(&name, edits)
@@ -497,7 +512,7 @@ impl World {
                 };
                 if !edited {
                     self.host
-                        .upsert_file(&name, FileContents::Text(document.text.clone()));
+                        .upsert_file(&name, document_contents(&document.text));
                 }
                 self.revision += 1;
                 self.republish.insert(name);
@@ -534,14 +549,15 @@ impl World {
         self.revision += 1;
     }
 
-    /// The contents of a workspace file on disk.
+    /// The contents of a workspace file on disk: as `check` reads it (only a regular file
+    /// inside the root, at most [`workspace::MAX_SOURCE_BYTES`]).
     fn read(&self, name: &str) -> FileContents {
-        let Some(path) = self.paths.absolute(name) else {
+        let (Some(path), Some(root)) = (self.paths.absolute(name), self.paths.root()) else {
             return FileContents::unreadable("the file is not in the workspace");
         };
-        match std::fs::read(&path) {
+        match workspace::Fence::new(root.to_path_buf()).read(&path, workspace::MAX_SOURCE_BYTES) {
             Ok(bytes) => FileContents::from_bytes(bytes),
-            Err(error) => FileContents::unreadable(workspace::io_reason(&error)),
+            Err(reason) => FileContents::unreadable(reason),
         }
     }
 
@@ -707,6 +723,24 @@ fn path_map(client_root: &Path) -> PathMap {
         client_side.pop();
     }
     PathMap::new(root, client_side)
+}
+
+/// Whether an open document is over the size limit of source files.
+fn too_large(text: &str) -> bool {
+    text.len() as u64 > workspace::MAX_SOURCE_BYTES
+}
+
+/// What the analysis sees of an open document: its text, or, over the size limit of source
+/// files ([`workspace::MAX_SOURCE_BYTES`]), the same HG6103 as `check` gives such a file.
+fn document_contents(text: &str) -> FileContents {
+    if too_large(text) {
+        FileContents::unreadable(format!(
+            "it is larger than the limit of {}",
+            workspace::size_text(workspace::MAX_SOURCE_BYTES)
+        ))
+    } else {
+        FileContents::Text(text.to_owned())
+    }
 }
 
 /// Whether a workspace path is the configuration or a symbol table: a change reloads the

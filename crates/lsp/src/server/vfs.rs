@@ -71,20 +71,21 @@ impl PathMap {
                 return workspace::display_name(root, &canonical);
             }
         }
-        path.to_string_lossy().replace('\\', "/")
+        workspace::absolute_name(path)
     }
 
     /// The absolute file path of a workspace path.
     pub(crate) fn absolute(&self, name: &str) -> Option<PathBuf> {
-        let path = Path::new(name);
-        if path.is_absolute() {
-            return Some(path.to_path_buf());
+        // Names are written by `workspace::name_text` component by component.
+        let parts = name.split('/').map(workspace::name_path);
+        if name.starts_with('/') {
+            return Some(parts.fold(PathBuf::from("/"), |path, part| path.join(part)));
+        }
+        if Path::new(name).is_absolute() {
+            return Some(PathBuf::from(name));
         }
         let root = self.client_root.as_ref().or(self.root.as_ref())?;
-        Some(
-            name.split('/')
-                .fold(root.clone(), |path, part| path.join(part)),
-        )
+        Some(parts.fold(root.clone(), |path, part| path.join(part)))
     }
 
     /// The URI of a workspace path.

@@ -5,24 +5,38 @@
 //!   that holds `higraph.toml`, else that folder itself.
 //! * The workspace's files are the `*.higraph` entries below the root, skipping hidden
 //!   entries (names starting with `.`), `node_modules` folders and the root's `target`
-//!   folder. Symbolic links to files are followed, links to folders are not (no cycles). A
-//!   folder named `*.higraph` counts as a file, which then cannot be read (HG6103).
+//!   folder. Symbolic links to files are listed, links to folders are not followed (no
+//!   cycles). A folder, FIFO or other special file named `*.higraph` counts as a file, which
+//!   then cannot be read (HG6103).
 //! * Files named explicitly on the command line are always part of the workspace, whatever
 //!   their name; so are the `*.higraph` files under a PATH folder that the walk from the root
 //!   skips or that lies outside the root.
+//! * Nothing outside the workspace is read ([`Fence`]): a file whose real path (every link
+//!   and `..` resolved) is not below the root is refused with HG6103 — a link out of the
+//!   workspace, a dangling link, a link loop. The one exception are PATHs the user names on
+//!   the command line outside the root (the root is found from the first PATH): what lies
+//!   under such a PATH may be read too, as the user asked for it. A file PATH's own last
+//!   component is not resolved for this, so `check env.higraph` with a link
+//!   `env.higraph -> /proc/self/environ` is refused like the walk refuses it.
 //! * A file is *selected* (reported on) when it is under one of the PATHs.
 //! * Files are named by their workspace-relative path with `/` separators; a file outside the
-//!   root keeps its absolute path. They are sorted in workspace order (code-point order of
-//!   that name).
+//!   root keeps its absolute path; bytes of a file name that are not UTF-8 are written
+//!   `\xNN` (and a backslash `\\`), so different files never print alike ([`name_text`]).
+//!   They are sorted in workspace order (code-point order of that name).
 
 use std::collections::BTreeSet;
+use std::ffi::OsStr;
 use std::fs;
 use std::io;
 use std::path::{Component, Path, PathBuf};
 
 mod load;
+mod read;
 
 pub(crate) use load::{FileFilter, load};
+pub(crate) use read::{
+    Fence, MAX_CONFIG_BYTES, MAX_SOURCE_BYTES, open_regular, read_regular, size_text,
+};
 
 /// The name of the workspace configuration file.
 pub(crate) const CONFIG_FILE: &str = "higraph.toml";
@@ -66,8 +80,11 @@ pub(crate) struct Workspace {
     pub root: PathBuf,
     /// The files, sorted by `name`.
     pub files: Vec<WorkspaceFile>,
-    /// The PATH arguments (canonical): diagnostics are reported for files under them.
+    /// The PATH arguments (absolute, see `Target`): diagnostics are reported for files
+    /// under them.
     pub targets: Vec<PathBuf>,
+    /// What may be read: the root and the PATHs outside it.
+    pub fence: Fence,
 }
 
 impl Workspace {
@@ -92,7 +109,8 @@ pub(crate) struct WorkspaceFile {
 
 /// A PATH argument after checking that it exists.
 struct Target {
-    /// Canonical absolute path.
+    /// Absolute path: a folder canonical, a file in its canonical folder (a link in the last
+    /// component is not resolved, so it is read, or refused, as the walk would).
     path: PathBuf,
     is_dir: bool,
 }
@@ -134,7 +152,9 @@ pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), Wo
         ))
     })?;
     walk.folder(&root, &root);
+    let mut fence = Fence::new(root.clone());
     for target in &targets {
+        fence.admit(target.path.clone());
         if !target.is_dir {
             walk.files.insert(target.path.clone());
         } else if !covered_by_root_walk(&root, &target.path) {
@@ -165,6 +185,7 @@ pub(crate) fn discover(paths: &[PathBuf]) -> Result<(Workspace, Vec<String>), Wo
             root,
             files,
             targets,
+            fence,
         },
         walk.warnings,
     ))
@@ -177,20 +198,34 @@ fn resolve(path: &Path) -> Result<Target, WorkspaceError> {
         io::ErrorKind::NotFound => WorkspaceError::new(format!("path '{shown}' does not exist")),
         _ => WorkspaceError::new(format!("cannot access '{shown}': {}", io_reason(&error))),
     })?;
-    let canonical = fs::canonicalize(path).map_err(|error| {
+    let cannot = |error: io::Error| {
         WorkspaceError::new(format!("cannot access '{shown}': {}", io_reason(&error)))
-    })?;
+    };
+    let is_dir = metadata.is_dir();
+    let location = match (is_dir, path.file_name()) {
+        (false, Some(name)) => {
+            let folder = match path.parent() {
+                Some(folder) if !folder.as_os_str().is_empty() => folder,
+                _ => Path::new("."),
+            };
+            fs::canonicalize(folder).map_err(cannot)?.join(name)
+        }
+        _ => fs::canonicalize(path).map_err(cannot)?,
+    };
     Ok(Target {
-        path: canonical,
-        is_dir: metadata.is_dir(),
+        path: location,
+        is_dir,
     })
 }
 
-/// The nearest folder upwards from `start` holding `higraph.toml`, else `start`.
+/// The nearest folder upwards from `start` holding `higraph.toml`, else `start`. Any entry of
+/// that name counts (it is not opened here): one that is not a regular file inside the
+/// workspace — a FIFO, a folder, a dangling link or a link out — is then refused when the
+/// configuration is read, with a message, instead of being passed over silently.
 pub(crate) fn find_root(start: &Path) -> PathBuf {
     start
         .ancestors()
-        .find(|folder| folder.join(CONFIG_FILE).is_file())
+        .find(|folder| fs::symlink_metadata(folder.join(CONFIG_FILE)).is_ok())
         .unwrap_or(start)
         .to_path_buf()
 }
@@ -279,15 +314,91 @@ impl Walk {
 }
 
 /// The name of a file in output: workspace-relative with `/`, or absolute outside the root.
+/// Each component is written by [`name_text`].
 pub(crate) fn display_name(root: &Path, path: &Path) -> String {
     match path.strip_prefix(root) {
         Ok(relative) if relative.as_os_str().is_empty() => ".".to_string(),
         Ok(relative) => relative
             .components()
-            .map(|component| component.as_os_str().to_string_lossy())
+            .map(|component| name_text(component.as_os_str()))
             .collect::<Vec<_>>()
             .join("/"),
-        Err(_) => path.to_string_lossy().replace('\\', "/"),
+        Err(_) => absolute_name(path),
+    }
+}
+
+/// An absolute path as a name: its components by [`name_text`], joined by `/`.
+pub(crate) fn absolute_name(path: &Path) -> String {
+    let mut name = String::new();
+    for component in path.components() {
+        match component {
+            Component::Prefix(prefix) => name.push_str(&prefix.as_os_str().to_string_lossy()),
+            Component::RootDir => name.push('/'),
+            other => {
+                if !name.is_empty() && !name.ends_with('/') {
+                    name.push('/');
+                }
+                name.push_str(&name_text(other.as_os_str()));
+            }
+        }
+    }
+    name
+}
+
+/// A file name as text that tells different names apart: valid UTF-8 as it is, each byte
+/// that is not part of valid UTF-8 as `\xNN`, and a backslash as `\\` (so `a\xff` spelt out
+/// and the byte 0xFF differ). [`name_path`] undoes it.
+pub(crate) fn name_text(name: &OsStr) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt as _;
+        let mut text = String::new();
+        for chunk in name.as_bytes().utf8_chunks() {
+            text.push_str(&chunk.valid().replace('\\', "\\\\"));
+            for byte in chunk.invalid() {
+                text.push_str(&format!("\\x{byte:02x}"));
+            }
+        }
+        text
+    }
+    #[cfg(not(unix))]
+    {
+        name.to_string_lossy().into_owned()
+    }
+}
+
+/// The file name [`name_text`] wrote as `text`.
+pub(crate) fn name_path(text: &str) -> PathBuf {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStringExt as _;
+        if !text.contains('\\') {
+            return PathBuf::from(text);
+        }
+        let bytes = text.as_bytes();
+        let mut out = Vec::with_capacity(bytes.len());
+        let mut i = 0;
+        while i < bytes.len() {
+            let escaped_byte = (bytes[i] == b'\\' && bytes.get(i + 1) == Some(&b'x'))
+                .then(|| text.get(i + 2..i + 4))
+                .flatten()
+                .and_then(|hex| u8::from_str_radix(hex, 16).ok());
+            if let Some(byte) = escaped_byte {
+                out.push(byte);
+                i += 4;
+            } else if bytes[i] == b'\\' && bytes.get(i + 1) == Some(&b'\\') {
+                out.push(b'\\');
+                i += 2;
+            } else {
+                out.push(bytes[i]);
+                i += 1;
+            }
+        }
+        PathBuf::from(std::ffi::OsString::from_vec(out))
+    }
+    #[cfg(not(unix))]
+    {
+        PathBuf::from(text)
     }
 }
 
@@ -315,6 +426,30 @@ mod tests {
         assert!(!walk_finds(root, Path::new("/ws/.b.higraph")));
         assert!(!walk_finds(root, Path::new("/ws/graphs/b.txt")));
         assert!(!walk_finds(root, Path::new("/other/b.higraph")));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn names_that_are_not_utf8_stay_apart_and_come_back() {
+        use std::os::unix::ffi::OsStrExt as _;
+        let one = OsStr::from_bytes(b"a\xff.higraph");
+        let two = OsStr::from_bytes(b"a\xfe.higraph");
+        let spelt = OsStr::new("a\\xff.higraph");
+        let texts = [name_text(one), name_text(two), name_text(spelt)];
+        assert_eq!(texts[0], "a\\xff.higraph");
+        assert_eq!(texts[1], "a\\xfe.higraph");
+        assert_eq!(texts[2], "a\\\\xff.higraph");
+        for (text, name) in texts.iter().zip([one, two, spelt]) {
+            assert_eq!(name_path(text).as_os_str(), name, "{text}");
+        }
+        assert_eq!(name_text(OsStr::new("Zähler.higraph")), "Zähler.higraph");
+        let root = Path::new("/ws");
+        let path = Path::new("/ws/x").join(one);
+        assert_eq!(display_name(root, &path), "x/a\\xff.higraph");
+        assert_eq!(
+            display_name(root, &Path::new("/other").join(one)),
+            "/other/a\\xff.higraph"
+        );
     }
 
     #[test]
