@@ -4,7 +4,7 @@
 //!
 //! Everything is deterministic: the same model gives the same picture.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use super::model::{ChartModel, Element, End, GraphModel, GroupModel};
 use super::picture::{BBox, FONT_SIZE, Picture, Shape, Text, text_width};
@@ -476,7 +476,7 @@ fn shorten(text: &str) -> String {
 /// right of their source.
 pub fn graph(model: &GraphModel) -> Picture {
     let n = model.states.len();
-    let mut index: HashMap<u64, usize> = HashMap::new();
+    let mut index: HashMap<u64, usize> = HashMap::default();
     for (i, state) in model.states.iter().enumerate() {
         index.entry(state.number).or_insert(i);
     }
@@ -534,8 +534,8 @@ pub fn graph(model: &GraphModel) -> Picture {
     }
 
     // Bars for any- and return transitions, several per state side by side.
-    let mut any_bars: HashMap<usize, usize> = HashMap::new();
-    let mut return_bars: HashMap<usize, usize> = HashMap::new();
+    let mut any_bars: HashMap<usize, usize> = HashMap::default();
+    let mut return_bars: HashMap<usize, usize> = HashMap::default();
     for trans in &model.transitions {
         let label = vec![trans.label()];
         let state = |end: End| match end {
