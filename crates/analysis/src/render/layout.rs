@@ -106,20 +106,97 @@ impl Curve {
     }
 }
 
+/// Boxes in a uniform grid of cells, so that asking which boxes meet a small region looks at
+/// the boxes near it, not at all of them: placing every node and label stays linear in their
+/// number.
+#[derive(Default)]
+struct Grid {
+    boxes: Vec<BBox>,
+    /// Cell → indices of the boxes that reach into it.
+    cells: HashMap<(i64, i64), Vec<usize>>,
+    /// Boxes too large to register cell by cell; always looked at.
+    large: Vec<usize>,
+}
+
+impl Grid {
+    /// Side of a cell, in picture units (a few nodes wide).
+    const CELL: f64 = 256.0;
+    /// A box spanning more cells than this goes to [`Grid::large`].
+    const MAX_CELLS: i64 = 256;
+
+    /// The cells a box reaches into (`None` for a box too large or not finite).
+    fn cell_span(b: &BBox) -> Option<(i64, i64, i64, i64)> {
+        let finite = [b.x, b.y, b.w, b.h].iter().all(|v| v.is_finite());
+        if !finite {
+            return None;
+        }
+        let cell = |v: f64| (v / Self::CELL).floor() as i64;
+        let span = (cell(b.x), cell(b.y), cell(b.x + b.w), cell(b.y + b.h));
+        let count = (span.2 - span.0 + 1).saturating_mul(span.3 - span.1 + 1);
+        (count <= Self::MAX_CELLS).then_some(span)
+    }
+
+    fn push(&mut self, b: BBox) -> usize {
+        let i = self.boxes.len();
+        self.boxes.push(b);
+        match Self::cell_span(&b) {
+            Some((x0, y0, x1, y1)) => {
+                for cx in x0..=x1 {
+                    for cy in y0..=y1 {
+                        self.cells.entry((cx, cy)).or_default().push(i);
+                    }
+                }
+            }
+            None => self.large.push(i),
+        }
+        i
+    }
+
+    /// Calls `f` with the index of every box that may meet `region` (each at least once,
+    /// possibly more often); stops and returns `true` as soon as `f` does.
+    fn any_near(&self, region: &BBox, mut f: impl FnMut(usize) -> bool) -> bool {
+        if self.large.iter().any(|&i| f(i)) {
+            return true;
+        }
+        match Self::cell_span(region) {
+            Some((x0, y0, x1, y1)) => (x0..=x1).any(|cx| {
+                (y0..=y1).any(|cy| {
+                    self.cells
+                        .get(&(cx, cy))
+                        .is_some_and(|boxes| boxes.iter().any(|&i| f(i)))
+                })
+            }),
+            None => (0..self.boxes.len()).any(f),
+        }
+    }
+
+    /// Does any box overlap `b`?
+    fn overlaps(&self, b: &BBox) -> bool {
+        self.any_near(b, |i| self.boxes[i].overlaps(b))
+    }
+}
+
 /// Collects nodes, routed edges and placed labels.
 #[derive(Default)]
 struct Router {
     nodes: Vec<Node>,
+    /// The nodes grown by the margin of [`Router::route`] (box `i` is node `i`'s).
+    node_grid: Grid,
     /// Boxes labels must keep clear of: nodes and placed labels.
-    taken: Vec<BBox>,
+    taken: Grid,
     picture: Picture,
     /// The bends already used per unordered node pair (in the frame of the lower index).
     bends: HashMap<(usize, usize), Vec<i32>>,
 }
 
+/// How close a routed edge may pass a node it does not join.
+const ROUTE_MARGIN: f64 = 8.0;
+
 impl Router {
     fn add_node(&mut self, node: Node) -> usize {
         self.taken.push(node.bbox().inflate(2.0));
+        // A point `near` the node lies in its box grown by the margin.
+        self.node_grid.push(node.bbox().inflate(ROUTE_MARGIN + 1.0));
         self.nodes.push(node);
         self.nodes.len() - 1
     }
@@ -217,10 +294,15 @@ impl Router {
             let hits = (1..20)
                 .map(|i| curve.at(f64::from(i) / 20.0))
                 .filter(|&(x, y)| {
-                    self.nodes
-                        .iter()
-                        .enumerate()
-                        .any(|(i, n)| i != from && i != to && n.near(x, y, 8.0))
+                    let point = BBox::centered(x, y, 0.0, 0.0);
+                    self.node_grid.any_near(&point, |i| {
+                        i != from
+                            && i != to
+                            && self
+                                .nodes
+                                .get(i)
+                                .is_some_and(|n| n.near(x, y, ROUTE_MARGIN))
+                    })
                 })
                 .count();
             if best.as_ref().is_none_or(|(h, _, _)| hits < *h) {
@@ -245,7 +327,7 @@ impl Router {
     /// there is no such place near the curve, the nearest free place below its middle.
     fn place_label(&mut self, curve: &Curve, lines: Vec<String>) {
         let (w, h) = Text::extent(&lines, FONT_SIZE);
-        let free = |b: &BBox, taken: &[BBox]| taken.iter().all(|t| !t.overlaps(b));
+        let free = |b: &BBox, taken: &Grid| !taken.overlaps(b);
         let mut chosen = None;
         'search: for t in [0.5, 0.4, 0.6, 0.3, 0.7, 0.25, 0.75, 0.2, 0.8] {
             let (x, y) = curve.at(t);
@@ -507,11 +589,16 @@ pub fn group(model: &GroupModel) -> Picture {
     }
     // One arrow per directed pair, in the order of the first link.
     let mut pairs: Vec<((usize, usize), Vec<String>)> = Vec::new();
+    let mut pair_of: HashMap<(usize, usize), usize> = HashMap::new();
     for link in &model.links {
         let line = format!("{} → {}", link.out_message, link.in_message);
-        match pairs.iter_mut().find(|(p, _)| *p == (link.from, link.to)) {
-            Some((_, lines)) => lines.push(line),
-            None => pairs.push(((link.from, link.to), vec![line])),
+        let key = (link.from, link.to);
+        match pair_of.get(&key) {
+            Some(&k) => pairs[k].1.push(line),
+            None => {
+                pair_of.insert(key, pairs.len());
+                pairs.push((key, vec![line]));
+            }
         }
     }
     for ((from, to), lines) in pairs {
@@ -544,59 +631,76 @@ fn jump_label(kind: &str, name: &str, target: &str) -> String {
     format!("{kind} {name} → {target}")
 }
 
-/// The extent of one element.
-fn measure_element(element: &Element) -> Extent {
-    match element {
-        Element::Step(name) => {
-            let w = step_width(name);
-            Extent {
-                left: w / 2.0,
-                right: w / 2.0,
-                height: 32.0,
-            }
-        }
-        Element::Trans(name) => Extent {
-            left: 16.0,
-            right: 22.0 + text_width(name, FONT_SIZE) + 4.0,
-            height: 22.0,
-        },
-        Element::Jump { name, target } | Element::Loop { name, target } => Extent {
-            left: 8.0,
-            right: 14.0 + text_width(&jump_label("jump", name, target), FONT_SIZE) + 4.0,
-            height: 30.0,
-        },
-        Element::Parallel(branches) | Element::Alt(branches) => {
-            let (width, height) = branches_size(branches);
-            Extent {
-                left: width / 2.0,
-                right: width / 2.0,
-                height: height + 28.0,
-            }
-        }
-    }
+/// The extents of a chart's elements, each measured once: drawing a nested `parallel` or
+/// `alt` asks for the extents of its branches at every level, which would otherwise measure
+/// deep nestings again and again. Elements are keyed by address (the model does not change
+/// while it is drawn).
+#[derive(Default)]
+struct Measures {
+    elements: HashMap<usize, Extent>,
 }
 
-/// Total width and greatest height of side-by-side branches.
-fn branches_size(branches: &[Vec<Element>]) -> (f64, f64) {
-    let extents: Vec<Extent> = branches.iter().map(|b| measure(b)).collect();
-    let width = extents.iter().map(|e| e.left + e.right).sum::<f64>()
-        + BRANCH_GAP * (extents.len().saturating_sub(1) as f64);
-    let height = extents.iter().map(|e| e.height).fold(0.0, f64::max);
-    (width.max(40.0), height)
-}
-
-/// The extent of a sequence.
-fn measure(elements: &[Element]) -> Extent {
-    let mut extent = Extent::default();
-    for (i, e) in elements.iter().enumerate() {
-        let m = measure_element(e);
-        extent.left = extent.left.max(m.left);
-        extent.right = extent.right.max(m.right);
-        extent.height += m.height + if i > 0 { GAP } else { 0.0 };
+impl Measures {
+    /// The extent of one element.
+    fn element(&mut self, element: &Element) -> Extent {
+        let key = element as *const Element as usize;
+        if let Some(&extent) = self.elements.get(&key) {
+            return extent;
+        }
+        let extent = match element {
+            Element::Step(name) => {
+                let w = step_width(name);
+                Extent {
+                    left: w / 2.0,
+                    right: w / 2.0,
+                    height: 32.0,
+                }
+            }
+            Element::Trans(name) => Extent {
+                left: 16.0,
+                right: 22.0 + text_width(name, FONT_SIZE) + 4.0,
+                height: 22.0,
+            },
+            Element::Jump { name, target } | Element::Loop { name, target } => Extent {
+                left: 8.0,
+                right: 14.0 + text_width(&jump_label("jump", name, target), FONT_SIZE) + 4.0,
+                height: 30.0,
+            },
+            Element::Parallel(branches) | Element::Alt(branches) => {
+                let (width, height) = self.branches_size(branches);
+                Extent {
+                    left: width / 2.0,
+                    right: width / 2.0,
+                    height: height + 28.0,
+                }
+            }
+        };
+        self.elements.insert(key, extent);
+        extent
     }
-    extent.left = extent.left.max(10.0);
-    extent.right = extent.right.max(10.0);
-    extent
+
+    /// Total width and greatest height of side-by-side branches.
+    fn branches_size(&mut self, branches: &[Vec<Element>]) -> (f64, f64) {
+        let extents: Vec<Extent> = branches.iter().map(|b| self.sequence(b)).collect();
+        let width = extents.iter().map(|e| e.left + e.right).sum::<f64>()
+            + BRANCH_GAP * (extents.len().saturating_sub(1) as f64);
+        let height = extents.iter().map(|e| e.height).fold(0.0, f64::max);
+        (width.max(40.0), height)
+    }
+
+    /// The extent of a sequence.
+    fn sequence(&mut self, elements: &[Element]) -> Extent {
+        let mut extent = Extent::default();
+        for (i, e) in elements.iter().enumerate() {
+            let m = self.element(e);
+            extent.left = extent.left.max(m.left);
+            extent.right = extent.right.max(m.right);
+            extent.height += m.height + if i > 0 { GAP } else { 0.0 };
+        }
+        extent.left = extent.left.max(10.0);
+        extent.right = extent.right.max(10.0);
+        extent
+    }
 }
 
 /// Draws charts: remembers where steps are and which jumps and loops still need arrows.
@@ -607,6 +711,7 @@ struct ChartPainter {
     steps: HashMap<String, (f64, f64)>,
     /// Jumps and loops: start point, target step name.
     jumps: Vec<((f64, f64), String)>,
+    measures: Measures,
 }
 
 impl ChartPainter {
@@ -635,7 +740,7 @@ impl ChartPainter {
 
     /// Draws one element whose top is at `y`; returns its bottom.
     fn element(&mut self, element: &Element, x: f64, y: f64) -> f64 {
-        let extent = measure_element(element);
+        let extent = self.measures.element(element);
         let bottom = y + extent.height;
         match element {
             Element::Step(name) => {
@@ -686,8 +791,9 @@ impl ChartPainter {
             }
             Element::Parallel(branches) | Element::Alt(branches) => {
                 let double = matches!(element, Element::Parallel(_));
-                let (width, _) = branches_size(branches);
-                let extents: Vec<Extent> = branches.iter().map(|b| measure(b)).collect();
+                let (width, _) = self.measures.branches_size(branches);
+                let extents: Vec<Extent> =
+                    branches.iter().map(|b| self.measures.sequence(b)).collect();
                 let mut left = x - width / 2.0;
                 let mut centres = Vec::new();
                 for e in &extents {
@@ -729,7 +835,7 @@ pub fn chart(model: &ChartModel) -> Picture {
     let mut painter = ChartPainter::default();
     let mut offset = 0.0;
     for sequencer in &model.sequencers {
-        let extent = measure(&sequencer.elements);
+        let extent = painter.measures.sequence(&sequencer.elements);
         let heading = format!("sequencer {}", sequencer.name);
         let heading_width = text_width(&heading, FONT_SIZE + 1.0) + 4.0;
         let x = offset + extent.left.max(heading_width / 2.0);
