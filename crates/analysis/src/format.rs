@@ -45,7 +45,9 @@
 //! LF; a file without line breaks, or with a lone CR first, gets LF), so Windows files stay
 //! Windows files. A leading byte-order mark is kept. The output ends with one line break.
 //!
-//! The formatter refuses a file with syntax errors ([`FormatError::Syntax`]). It checks its
+//! The formatter refuses a file with syntax errors ([`FormatError::Syntax`]), and a tree more
+//! than 2000 levels deep ([`FormatError::Internal`]; the parser's nesting limit keeps files
+//! without syntax errors far below that): its walks recurse once per level. It checks its
 //! own result: the output must parse without errors and have the same significant tokens, with
 //! the same parent nodes, as the input (modulo the case changes above, the order of header
 //! clauses and the priorities written out); otherwise it returns [`FormatError::Internal`]

@@ -40,26 +40,42 @@ pub fn unused_symbols(n: usize) -> String {
     text
 }
 
-/// `alt` branches nested `depth` deep in one chart named `C{i}`.
+/// `alt` branches nested `depth` deep in one chart named `C{i}`, indented as `fmt` lays it
+/// out (two spaces per `<`), so the text grows with the square of `depth` just as its
+/// formatted form does.
 pub fn nested_alt_chart(i: usize, depth: usize) -> String {
+    let pad = |level: usize| "  ".repeat(level);
     let mut text =
         format!("chart C{i} <\n  sequencer Seq <\n    start < TRUE; >\n    step A < >\n");
     for d in 0..depth {
+        let level = 2 + 2 * d;
         text.push_str(&format!(
-            "alt < branch < trans T{d} < TRUE; > step S{d} < >\n"
+            "{}alt <\n{}branch <\n{}trans T{d} < TRUE; >\n{}step S{d} < >\n",
+            pad(level),
+            pad(level + 1),
+            pad(level + 2),
+            pad(level + 2)
         ));
     }
-    text.push_str("trans TE < TRUE; >\n");
-    for d in 0..depth {
-        text.push_str(&format!("> branch < trans U{d} < FALSE; > > >\n"));
+    text.push_str(&format!("{}trans TE < TRUE; >\n", pad(2 + 2 * depth)));
+    for d in (0..depth).rev() {
+        let level = 2 + 2 * d;
+        text.push_str(&format!(
+            "{}>\n{}branch <\n{}trans U{d} < FALSE; >\n{}>\n{}>\n",
+            pad(level + 1),
+            pad(level + 1),
+            pad(level + 2),
+            pad(level + 1),
+            pad(level)
+        ));
     }
     text.push_str("    step B < >\n  >\n>\n");
     text
 }
 
-/// `fmt` of nested `alt` branches: `charts` charts whose `alt` branches nest `depth` deep
-/// (the file grows with `depth`; a formatter that re-reads a subtree at every level of it
-/// grows with its square).
+/// `fmt` of nested `alt` branches: `charts` charts whose `alt` branches nest `depth` deep.
+/// Each level is indented once more, so the file grows with the square of `depth`; a
+/// formatter that re-reads a subtree at every level of it grows faster than the file.
 pub fn nested_alt(charts: usize, depth: usize) -> String {
     (0..charts).map(|i| nested_alt_chart(i, depth)).collect()
 }
