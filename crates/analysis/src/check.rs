@@ -2,7 +2,7 @@
 //! the workspace-wide diagnostics that land in it — with severities from the configuration,
 //! inline suppressions applied (§1.4b), absolute ranges and output file ids.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use higraph_syntax::{TextRange, TextSize};
 
@@ -17,6 +17,23 @@ use crate::{
 /// Every file the diagnostics may refer to, in output order: the `.higraph` files, the loaded
 /// import files, then `higraph.toml`. `FileId(i)` is the `i`th.
 pub fn output_files(db: &dyn salsa::Database, ws: Workspace) -> Vec<File> {
+    output_file_table(db, ws).files.clone()
+}
+
+/// The output files with their ids and which of them are sources, computed once per
+/// workspace revision (each file's diagnostics need them; rebuilding them per file would cost
+/// the square of the number of files).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct OutputFiles {
+    pub files: Vec<File>,
+    pub ids: HashMap<File, FileId>,
+    pub sources: HashSet<File>,
+    /// The source files by path.
+    pub source_paths: HashMap<String, File>,
+}
+
+#[salsa::tracked(returns(ref))]
+pub fn output_file_table(db: &dyn salsa::Database, ws: Workspace) -> OutputFiles {
     let mut files = ws.files(db).clone();
     files.extend(
         ws.imports(db)
@@ -24,12 +41,27 @@ pub fn output_files(db: &dyn salsa::Database, ws: Workspace) -> Vec<File> {
             .filter_map(|i| i.file.as_ref().ok().copied()),
     );
     files.extend(ws.config_file(db));
-    files
+    let ids = files
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| (f, FileId(i as u32)))
+        .collect();
+    OutputFiles {
+        ids,
+        sources: ws.files(db).iter().copied().collect(),
+        source_paths: ws
+            .files(db)
+            .iter()
+            .map(|&f| (f.path(db).clone(), f))
+            .collect(),
+        files,
+    }
 }
 
 /// The diagnostics of every output file.
 pub fn all_diagnostics(db: &dyn salsa::Database, ws: Workspace) -> Vec<(FileId, Vec<Diagnostic>)> {
-    output_files(db, ws)
+    output_file_table(db, ws)
+        .files
         .iter()
         .enumerate()
         .map(|(i, &file)| {
@@ -49,12 +81,56 @@ pub fn cached_file_diagnostics(
     ws: Workspace,
     file: File,
 ) -> Vec<Diagnostic> {
-    let ids: HashMap<File, FileId> = output_files(db, ws)
-        .iter()
-        .enumerate()
-        .map(|(i, &f)| (f, FileId(i as u32)))
-        .collect();
-    file_diagnostics(db, ws, file, &ids)
+    file_diagnostics(db, ws, file, &output_file_table(db, ws).ids)
+}
+
+/// The positions in [`db::workspace_diagnostics`] of the diagnostics of each file, and the
+/// problems of the imported tables per file (positions: table, problem).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+struct WorkspaceDiagsByFile {
+    workspace: HashMap<File, Vec<usize>>,
+    imports: HashMap<File, Vec<(usize, usize)>>,
+}
+
+#[salsa::tracked(returns(ref))]
+fn workspace_diags_by_file(db: &dyn salsa::Database, ws: Workspace) -> WorkspaceDiagsByFile {
+    let mut by_file = WorkspaceDiagsByFile::default();
+    for (t, table) in sdf::imported_tables(db, ws).iter().enumerate() {
+        for (p, problem) in table.problems.iter().enumerate() {
+            by_file
+                .imports
+                .entry(problem.at.file)
+                .or_default()
+                .push((t, p));
+        }
+    }
+    for (i, diag) in db::workspace_diagnostics(db, ws).iter().enumerate() {
+        by_file.workspace.entry(diag.at.file).or_default().push(i);
+    }
+    by_file
+}
+
+/// The workspace-wide diagnostics (imported tables' problems first, then
+/// [`db::workspace_diagnostics`]) that land in one file. Equal as long as that file's share is,
+/// so an edit elsewhere does not convert this file's diagnostics again.
+#[salsa::tracked(returns(ref))]
+fn file_workspace_diags(db: &dyn salsa::Database, ws: Workspace, file: File) -> Vec<Diag> {
+    let by_file = workspace_diags_by_file(db, ws);
+    let tables = sdf::imported_tables(db, ws);
+    let all = db::workspace_diagnostics(db, ws);
+    let mut out = Vec::new();
+    for &(t, p) in by_file.imports.get(&file).into_iter().flatten() {
+        out.extend(
+            tables
+                .get(t)
+                .and_then(|table| table.problems.get(p))
+                .cloned(),
+        );
+    }
+    for &i in by_file.workspace.get(&file).into_iter().flatten() {
+        out.extend(all.get(i).cloned());
+    }
+    out
 }
 
 /// The diagnostics of one file.
@@ -93,7 +169,7 @@ pub fn file_diagnostics(
     }
     let config = ws.config(db);
     let mut diags: Vec<&Diag> = Vec::new();
-    let is_source = ws.files(db).contains(&file);
+    let is_source = output_file_table(db, ws).sources.contains(&file);
     let mut out = Vec::new();
     let mut config_problems = Vec::new();
     if is_source {
@@ -122,14 +198,7 @@ pub fn file_diagnostics(
         }
     }
     diags.extend(config_problems.iter());
-    for table in sdf::imported_tables(db, ws) {
-        diags.extend(table.problems.iter().filter(|d| d.at.file == file));
-    }
-    diags.extend(
-        db::workspace_diagnostics(db, ws)
-            .iter()
-            .filter(|d| d.at.file == file),
-    );
+    diags.extend(file_workspace_diags(db, ws, file).iter());
 
     let text = contents.text();
     // Only a file with `higraph-allow` comments needs lines (a line index is O(file)).
@@ -246,7 +315,7 @@ fn rename_edits(
     let (declaration, _) = fix.edits.first()?;
     let offset = db::absolute_range(db, declaration).start();
     let change = crate::ide::rename::rename(db, ws, declaration.file, offset, new_name).ok()?;
-    let by_path: HashMap<&String, File> = ws.files(db).iter().map(|&f| (f.path(db), f)).collect();
+    let by_path = &output_file_table(db, ws).source_paths;
     let mut edits = Vec::new();
     for (path, file_edits) in &change.files {
         let file = ids.get(by_path.get(path)?)?;

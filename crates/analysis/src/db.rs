@@ -202,13 +202,21 @@ impl PartialEq for Green {
     }
 }
 
+/// The green nodes of a file's items, in text order: one walk over the file's top level,
+/// so that [`item_syntax`] of each item costs a lookup, not a walk to the item.
+#[salsa::tracked(returns(ref))]
+pub fn file_items(db: &dyn salsa::Database, file: File) -> Vec<Green> {
+    item_nodes(parse(db, file))
+        .map(|n| Green(n.green().to_owned()))
+        .collect()
+}
+
 /// The green node of one item: its syntax with offsets relative to the item's start.
 #[salsa::tracked(returns(clone))]
 pub fn item_syntax<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Option<Green> {
-    let parse = parse(db, item.file(db));
-    item_nodes(parse)
-        .nth(item.index(db) as usize)
-        .map(|n| Green(n.green().to_owned()))
+    file_items(db, item.file(db))
+        .get(item.index(db) as usize)
+        .cloned()
 }
 
 /// A graph member's green node (a `state`, `trans`, variable section, ...), compared and

@@ -45,7 +45,9 @@
 //! LF; a file without line breaks, or with a lone CR first, gets LF), so Windows files stay
 //! Windows files. A leading byte-order mark is kept. The output ends with one line break.
 //!
-//! The formatter refuses a file with syntax errors ([`FormatError::Syntax`]). It checks its
+//! The formatter refuses a file with syntax errors ([`FormatError::Syntax`]), and a tree more
+//! than 2000 levels deep ([`FormatError::Internal`]; the parser's nesting limit keeps files
+//! without syntax errors far below that): its walks recurse once per level. It checks its
 //! own result: the output must parse without errors and have the same significant tokens, with
 //! the same parent nodes, as the input (modulo the case changes above, the order of header
 //! clauses and the priorities written out); otherwise it returns [`FormatError::Internal`]
@@ -57,7 +59,7 @@ use std::fmt;
 use higraph_syntax::{
     SyntaxElement, SyntaxError, SyntaxKind,
     SyntaxKind::*,
-    SyntaxNode, SyntaxToken, TextSize,
+    SyntaxNode, SyntaxToken, TextRange, TextSize,
     ast::{self, AstNode},
     parse,
     rowan::NodeOrToken,
@@ -100,6 +102,13 @@ pub fn format(text: &str) -> Result<String, FormatError> {
         return Err(FormatError::Syntax(parsed.errors().to_vec()));
     }
     let root = parsed.syntax_node();
+    // The layout walks the tree recursively. The parser's nesting limit keeps trees of
+    // files without syntax errors far shallower; this bound holds whatever that limit is.
+    if tree_depth(&root) > MAX_DEPTH {
+        return Err(FormatError::Internal(format!(
+            "the file nests constructs more than {MAX_DEPTH} levels deep"
+        )));
+    }
     let tokens = TokenTable::new(&root);
     let prios = file_priorities(&root);
     let mut formatter = Formatter {
@@ -121,6 +130,26 @@ pub fn format(text: &str) -> Result<String, FormatError> {
     }
     verify(&root, &prios, &out)?;
     Ok(out)
+}
+
+/// The deepest syntax tree the formatter lays out (its walks recurse once per level).
+const MAX_DEPTH: usize = 2000;
+
+/// The number of node levels of a tree, without recursion.
+fn tree_depth(root: &SyntaxNode) -> usize {
+    use higraph_syntax::rowan::WalkEvent;
+    let mut depth = 0usize;
+    let mut deepest = 0;
+    for event in root.preorder() {
+        match event {
+            WalkEvent::Enter(_) => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            WalkEvent::Leave(_) => depth = depth.saturating_sub(1),
+        }
+    }
+    deepest
 }
 
 /// Does the input's first line break use CR LF?
@@ -227,11 +256,16 @@ struct TokenTable {
     gaps: Vec<Gap>,
     /// `comments_upto[i]`: how many comments lie in `gaps[..i]`.
     comments_upto: Vec<usize>,
+    /// `breaks_upto[i]`: how many of `gaps[..i]` hold a line break or a comment.
+    breaks_upto: Vec<usize>,
+    /// The start offset of every significant token, in text order (so ascending).
+    starts: Vec<TextSize>,
 }
 
 impl TokenTable {
     fn new(root: &SyntaxNode) -> TokenTable {
         let mut index = HashMap::new();
+        let mut starts = Vec::new();
         let mut gaps = Vec::new();
         let mut gap = Gap {
             touching: true,
@@ -258,6 +292,7 @@ impl TokenTable {
                 _ => {
                     gap.newlines_before_token = newlines;
                     index.insert(token.text_range().start(), gaps.len());
+                    starts.push(token.text_range().start());
                     gaps.push(std::mem::take(&mut gap));
                     gap.touching = true;
                     newlines = 0;
@@ -273,11 +308,28 @@ impl TokenTable {
             count += gap.comments.len();
         }
         comments_upto.push(count);
+        let mut breaks_upto = Vec::with_capacity(gaps.len() + 1);
+        let mut count = 0;
+        for gap in &gaps {
+            breaks_upto.push(count);
+            count += usize::from(gap.newlines_before_token > 0 || !gap.comments.is_empty());
+        }
+        breaks_upto.push(count);
         TokenTable {
             index,
             gaps,
             comments_upto,
+            breaks_upto,
+            starts,
         }
+    }
+
+    /// The indices of the first and the last significant token within `range` (`None` if it
+    /// holds none). A binary search, so asking it of every node of a deep tree stays cheap.
+    fn span(&self, range: TextRange) -> Option<(usize, usize)> {
+        let first = self.starts.partition_point(|&start| start < range.start());
+        let end = self.starts.partition_point(|&start| start < range.end());
+        (first < end).then(|| (first, end - 1))
     }
 
     fn index_of(&self, token: &SyntaxToken) -> Option<usize> {
@@ -295,11 +347,14 @@ impl TokenTable {
 
     /// Are there line breaks before any of the tokens `from..=to`?
     fn line_breaks_in(&self, from: usize, to: usize) -> bool {
-        (from..=to).any(|i| {
-            self.gaps
-                .get(i)
-                .is_some_and(|gap| gap.newlines_before_token > 0 || !gap.comments.is_empty())
-        })
+        if from > to {
+            return false;
+        }
+        let count = |i: usize| {
+            let last = self.breaks_upto.len().saturating_sub(1);
+            self.breaks_upto.get(i.min(last)).copied().unwrap_or(0)
+        };
+        count(to + 1) > count(from)
     }
 
     /// Is there a `// higraph-allow:` comment right before token `first` (on its line or the
@@ -886,19 +941,15 @@ impl Formatter<'_> {
         }
     }
 
-    /// Comments between the first and the last token of the elements.
+    /// Comments between the first and the last token of the elements (in text order).
     fn comments_within(&self, elements: &[SyntaxElement]) -> bool {
-        let indices: Vec<usize> = elements
-            .iter()
-            .flat_map(|element| match element {
-                NodeOrToken::Token(token) => vec![token.clone()],
-                NodeOrToken::Node(node) => significant_tokens(node).collect(),
-            })
-            .filter_map(|token| self.tokens.index_of(&token))
-            .collect();
-        match (indices.iter().min(), indices.iter().max()) {
-            (Some(&first), Some(&last)) => self.tokens.comments_in(first + 1, last),
-            _ => false,
+        let (Some(first), Some(last)) = (elements.first(), elements.last()) else {
+            return false;
+        };
+        let range = TextRange::new(first.text_range().start(), last.text_range().end());
+        match self.tokens.span(range) {
+            Some((first, last)) => self.tokens.comments_in(first + 1, last),
+            None => false,
         }
     }
 
@@ -1011,10 +1062,7 @@ impl Formatter<'_> {
         // A `// higraph-allow:` comment covers its own line and the next one, so next to one
         // the input's choice between one line and several is kept: joining or splitting lines
         // would change which diagnostics it suppresses.
-        let indices: Vec<usize> = significant_tokens(node)
-            .filter_map(|t| self.tokens.index_of(&t))
-            .collect();
-        if let (Some(&first), Some(&last)) = (indices.first(), indices.last()) {
+        if let Some((first, last)) = self.tokens.span(node.text_range()) {
             if self.tokens.allow_comment_around(first, last) {
                 return !self.tokens.line_breaks_in(first + 1, last);
             }

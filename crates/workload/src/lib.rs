@@ -9,6 +9,8 @@
 //!   mnemonics), 10 charts with parallel and alternative branches, jumps and loops, block
 //!   interfaces and one `symbols` table of exactly 5000 symbols.
 //!
+//! [`scaling`] generates the inputs of the scaling families (one size parameter each).
+//!
 //! The output depends only on the seed: the PRNG is a built-in SplitMix64 and nothing iterates
 //! over a hash map. All text is syntactically valid (`tests/valid.rs` parses it) and is meant to
 //! be clean for the semantic rules too (see the module docs of `graph`), so a `check` benchmark
@@ -19,6 +21,7 @@ mod graph;
 mod group;
 mod mnemonic;
 mod rng;
+pub mod scaling;
 mod symbols;
 mod workloads;
 

@@ -50,7 +50,8 @@ pub fn graph(model: &GraphModel) -> String {
             quote(&label)
         );
     }
-    let exists = |n: u64| model.states.iter().any(|s| s.number == n);
+    let numbers: std::collections::HashSet<u64> = model.states.iter().map(|s| s.number).collect();
+    let exists = |n: u64| numbers.contains(&n);
     for (i, trans) in model.transitions.iter().enumerate() {
         let source = match trans.source {
             End::State(n) if exists(n) => format!("s{n}"),
@@ -134,11 +135,16 @@ pub fn chart(model: &ChartModel) -> String {
         };
         writer.sequence(&sequencer.elements, Vec::new());
         let ChartWriter { steps, jumps, .. } = writer;
+        // The first step of each name (case-insensitive).
+        let mut step_ids: std::collections::HashMap<String, &String> =
+            std::collections::HashMap::new();
+        for (name, id) in &steps {
+            step_ids.entry(name.to_ascii_uppercase()).or_insert(id);
+        }
         for (from, label, target) in jumps {
-            let to = steps
-                .iter()
-                .find(|(name, _)| name.eq_ignore_ascii_case(&target))
-                .map(|(_, id)| id.clone());
+            let to = step_ids
+                .get(&target.to_ascii_uppercase())
+                .map(|id| (*id).clone());
             if let Some(to) = to {
                 for from in from {
                     let _ = writeln!(

@@ -106,41 +106,62 @@ impl Curve {
 
 /// Boxes filed by the square cells of [`Grid::CELL`] they touch, so that "what is near this
 /// point or box" costs the few boxes there, not all of them: routing and labelling stay
-/// linear in the size of the picture.
+/// linear in the size of the picture. A box too large (or not finite) to file cell by cell
+/// is kept aside and always looked at; there are few of them.
 #[derive(Default)]
 struct Grid {
     boxes: Vec<BBox>,
     cells: HashMap<(i64, i64), Vec<usize>>,
+    large: Vec<usize>,
 }
 
 impl Grid {
     const CELL: f64 = 80.0;
+    /// A box spanning more cells than this goes to [`Grid::large`].
+    const MAX_CELLS: i64 = 256;
 
-    fn cell_range(b: &BBox) -> ((i64, i64), (i64, i64)) {
+    /// The cells a box touches, or `None` for a box too large or not finite.
+    fn cell_range(b: &BBox) -> Option<((i64, i64), (i64, i64))> {
+        if ![b.x, b.y, b.w, b.h].iter().all(|v| v.is_finite()) {
+            return None;
+        }
         let cell = |v: f64| (v / Self::CELL).floor() as i64;
-        ((cell(b.x), cell(b.y)), (cell(b.x + b.w), cell(b.y + b.h)))
+        let (x0, y0, x1, y1) = (cell(b.x), cell(b.y), cell(b.x + b.w), cell(b.y + b.h));
+        let count = (x1 - x0 + 1).saturating_mul(y1 - y0 + 1);
+        (count <= Self::MAX_CELLS).then_some(((x0, y0), (x1, y1)))
     }
 
     fn insert(&mut self, b: BBox) -> usize {
         let id = self.boxes.len();
         self.boxes.push(b);
-        let ((x0, y0), (x1, y1)) = Self::cell_range(&b);
-        for cx in x0..=x1 {
-            for cy in y0..=y1 {
-                self.cells.entry((cx, cy)).or_default().push(id);
+        match Self::cell_range(&b) {
+            Some(((x0, y0), (x1, y1))) => {
+                for cx in x0..=x1 {
+                    for cy in y0..=y1 {
+                        self.cells.entry((cx, cy)).or_default().push(id);
+                    }
+                }
             }
+            None => self.large.push(id),
         }
         id
     }
 
     /// Ids of boxes that may overlap `b` (each box in a cell `b` touches; maybe repeated).
-    fn near(&self, b: &BBox) -> impl Iterator<Item = usize> + '_ {
-        let ((x0, y0), (x1, y1)) = Self::cell_range(b);
-        (x0..=x1)
-            .flat_map(move |cx| (y0..=y1).map(move |cy| (cx, cy)))
-            .filter_map(|key| self.cells.get(&key))
-            .flatten()
-            .copied()
+    fn near(&self, b: &BBox) -> Box<dyn Iterator<Item = usize> + '_> {
+        let large = self.large.iter().copied();
+        match Self::cell_range(b) {
+            Some(((x0, y0), (x1, y1))) => Box::new(
+                large.chain(
+                    (x0..=x1)
+                        .flat_map(move |cx| (y0..=y1).map(move |cy| (cx, cy)))
+                        .filter_map(|key| self.cells.get(&key))
+                        .flatten()
+                        .copied(),
+                ),
+            ),
+            None => Box::new(0..self.boxes.len()),
+        }
     }
 
     /// Whether no box overlaps `b`.
@@ -632,11 +653,16 @@ pub fn group(model: &GroupModel) -> Picture {
     }
     // One arrow per directed pair, in the order of the first link.
     let mut pairs: Vec<((usize, usize), Vec<String>)> = Vec::new();
+    let mut pair_of: HashMap<(usize, usize), usize> = HashMap::default();
     for link in &model.links {
         let line = format!("{} → {}", link.out_message, link.in_message);
-        match pairs.iter_mut().find(|(p, _)| *p == (link.from, link.to)) {
-            Some((_, lines)) => lines.push(line),
-            None => pairs.push(((link.from, link.to), vec![line])),
+        let key = (link.from, link.to);
+        match pair_of.get(&key) {
+            Some(&k) => pairs[k].1.push(line),
+            None => {
+                pair_of.insert(key, pairs.len());
+                pairs.push((key, vec![line]));
+            }
         }
     }
     for ((from, to), lines) in pairs {
@@ -669,59 +695,76 @@ fn jump_label(kind: &str, name: &str, target: &str) -> String {
     format!("{kind} {name} → {target}")
 }
 
-/// The extent of one element.
-fn measure_element(element: &Element) -> Extent {
-    match element {
-        Element::Step(name) => {
-            let w = step_width(name);
-            Extent {
-                left: w / 2.0,
-                right: w / 2.0,
-                height: 32.0,
-            }
-        }
-        Element::Trans(name) => Extent {
-            left: 16.0,
-            right: 22.0 + text_width(name, FONT_SIZE) + 4.0,
-            height: 22.0,
-        },
-        Element::Jump { name, target } | Element::Loop { name, target } => Extent {
-            left: 8.0,
-            right: 14.0 + text_width(&jump_label("jump", name, target), FONT_SIZE) + 4.0,
-            height: 30.0,
-        },
-        Element::Parallel(branches) | Element::Alt(branches) => {
-            let (width, height) = branches_size(branches);
-            Extent {
-                left: width / 2.0,
-                right: width / 2.0,
-                height: height + 28.0,
-            }
-        }
-    }
+/// The extents of a chart's elements, each measured once: drawing a nested `parallel` or
+/// `alt` asks for the extents of its branches at every level, which would otherwise measure
+/// deep nestings again and again. Elements are keyed by address (the model does not change
+/// while it is drawn).
+#[derive(Default)]
+struct Measures {
+    elements: HashMap<usize, Extent>,
 }
 
-/// Total width and greatest height of side-by-side branches.
-fn branches_size(branches: &[Vec<Element>]) -> (f64, f64) {
-    let extents: Vec<Extent> = branches.iter().map(|b| measure(b)).collect();
-    let width = extents.iter().map(|e| e.left + e.right).sum::<f64>()
-        + BRANCH_GAP * (extents.len().saturating_sub(1) as f64);
-    let height = extents.iter().map(|e| e.height).fold(0.0, f64::max);
-    (width.max(40.0), height)
-}
-
-/// The extent of a sequence.
-fn measure(elements: &[Element]) -> Extent {
-    let mut extent = Extent::default();
-    for (i, e) in elements.iter().enumerate() {
-        let m = measure_element(e);
-        extent.left = extent.left.max(m.left);
-        extent.right = extent.right.max(m.right);
-        extent.height += m.height + if i > 0 { GAP } else { 0.0 };
+impl Measures {
+    /// The extent of one element.
+    fn element(&mut self, element: &Element) -> Extent {
+        let key = element as *const Element as usize;
+        if let Some(&extent) = self.elements.get(&key) {
+            return extent;
+        }
+        let extent = match element {
+            Element::Step(name) => {
+                let w = step_width(name);
+                Extent {
+                    left: w / 2.0,
+                    right: w / 2.0,
+                    height: 32.0,
+                }
+            }
+            Element::Trans(name) => Extent {
+                left: 16.0,
+                right: 22.0 + text_width(name, FONT_SIZE) + 4.0,
+                height: 22.0,
+            },
+            Element::Jump { name, target } | Element::Loop { name, target } => Extent {
+                left: 8.0,
+                right: 14.0 + text_width(&jump_label("jump", name, target), FONT_SIZE) + 4.0,
+                height: 30.0,
+            },
+            Element::Parallel(branches) | Element::Alt(branches) => {
+                let (width, height) = self.branches_size(branches);
+                Extent {
+                    left: width / 2.0,
+                    right: width / 2.0,
+                    height: height + 28.0,
+                }
+            }
+        };
+        self.elements.insert(key, extent);
+        extent
     }
-    extent.left = extent.left.max(10.0);
-    extent.right = extent.right.max(10.0);
-    extent
+
+    /// Total width and greatest height of side-by-side branches.
+    fn branches_size(&mut self, branches: &[Vec<Element>]) -> (f64, f64) {
+        let extents: Vec<Extent> = branches.iter().map(|b| self.sequence(b)).collect();
+        let width = extents.iter().map(|e| e.left + e.right).sum::<f64>()
+            + BRANCH_GAP * (extents.len().saturating_sub(1) as f64);
+        let height = extents.iter().map(|e| e.height).fold(0.0, f64::max);
+        (width.max(40.0), height)
+    }
+
+    /// The extent of a sequence.
+    fn sequence(&mut self, elements: &[Element]) -> Extent {
+        let mut extent = Extent::default();
+        for (i, e) in elements.iter().enumerate() {
+            let m = self.element(e);
+            extent.left = extent.left.max(m.left);
+            extent.right = extent.right.max(m.right);
+            extent.height += m.height + if i > 0 { GAP } else { 0.0 };
+        }
+        extent.left = extent.left.max(10.0);
+        extent.right = extent.right.max(10.0);
+        extent
+    }
 }
 
 /// Draws charts: remembers where steps are and which jumps and loops still need arrows.
@@ -732,6 +775,7 @@ struct ChartPainter {
     steps: HashMap<String, (f64, f64)>,
     /// Jumps and loops: start point, target step name.
     jumps: Vec<((f64, f64), String)>,
+    measures: Measures,
 }
 
 impl ChartPainter {
@@ -760,7 +804,7 @@ impl ChartPainter {
 
     /// Draws one element whose top is at `y`; returns its bottom.
     fn element(&mut self, element: &Element, x: f64, y: f64) -> f64 {
-        let extent = measure_element(element);
+        let extent = self.measures.element(element);
         let bottom = y + extent.height;
         match element {
             Element::Step(name) => {
@@ -811,8 +855,9 @@ impl ChartPainter {
             }
             Element::Parallel(branches) | Element::Alt(branches) => {
                 let double = matches!(element, Element::Parallel(_));
-                let (width, _) = branches_size(branches);
-                let extents: Vec<Extent> = branches.iter().map(|b| measure(b)).collect();
+                let (width, _) = self.measures.branches_size(branches);
+                let extents: Vec<Extent> =
+                    branches.iter().map(|b| self.measures.sequence(b)).collect();
                 let mut left = x - width / 2.0;
                 let mut centres = Vec::new();
                 for e in &extents {
@@ -854,7 +899,7 @@ pub fn chart(model: &ChartModel) -> Picture {
     let mut painter = ChartPainter::default();
     let mut offset = 0.0;
     for sequencer in &model.sequencers {
-        let extent = measure(&sequencer.elements);
+        let extent = painter.measures.sequence(&sequencer.elements);
         let heading = format!("sequencer {}", sequencer.name);
         let heading_width = text_width(&heading, FONT_SIZE + 1.0) + 4.0;
         let x = offset + extent.left.max(heading_width / 2.0);

@@ -203,11 +203,13 @@ pub fn group_model(group: &ast::Group) -> GroupModel {
             Some((model, instance))
         })
         .collect();
-    let position = |name: &str| {
-        instances
-            .iter()
-            .position(|(m, _)| m.name.eq_ignore_ascii_case(name))
-    };
+    // The first instance of each name (case-insensitive), found by lookup rather than by a
+    // scan per link.
+    let mut by_name: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+    for (i, (m, _)) in instances.iter().enumerate() {
+        by_name.entry(m.name.to_ascii_uppercase()).or_insert(i);
+    }
+    let position = |name: &str| by_name.get(&name.to_ascii_uppercase()).copied();
     let mut links = Vec::new();
     for (from, (_, instance)) in instances.iter().enumerate() {
         for actual in instance.actuals() {

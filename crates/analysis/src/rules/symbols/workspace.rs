@@ -6,7 +6,7 @@
 use std::collections::{HashMap, HashSet};
 
 use higraph_syntax::{
-    SyntaxKind,
+    SyntaxKind, TextRange,
     ast::{self, AstNode},
 };
 
@@ -227,6 +227,8 @@ fn check_unused(db: &dyn salsa::Database, ws: Workspace, index: &GlobalIndex, ou
     for &file in ws.files(db) {
         used.extend(file_symbol_uses(db, ws, file).iter());
     }
+    // The declarations of each `symbols` item, walked once per item (not once per symbol).
+    let mut declarations: HashMap<(File, u32), HashMap<TextRange, TextRange>> = HashMap::new();
     for symbol in &index.symbols {
         if symbol.source != SymbolSource::Declared
             || used.contains(&index::key(&symbol.name))
@@ -239,31 +241,34 @@ fn check_unused(db: &dyn salsa::Database, ws: Workspace, index: &GlobalIndex, ou
             symbol.name_loc,
             format!("symbol '{}' is never used", symbol.name),
         );
-        if let Some(loc) = symbol_node_loc(db, symbol) {
-            diag = diag.fix(format!("Remove symbol '{}'", symbol.name), loc, "");
+        if let Some(item) = symbol.name_loc.item {
+            let file = symbol.name_loc.file;
+            let nodes = declarations
+                .entry((file, item))
+                .or_insert_with(|| symbol_nodes(db, file, item));
+            if let Some(&range) = nodes.get(&symbol.name_loc.range) {
+                let loc = Loc::in_item(file, item, range);
+                diag = diag.fix(format!("Remove symbol '{}'", symbol.name), loc, "");
+            }
         }
         out.push(diag);
     }
 }
 
-/// The whole declaration of a declared symbol (for the HG6004 fix).
-fn symbol_node_loc(db: &dyn salsa::Database, symbol: &Symbol) -> Option<Loc> {
-    let item = symbol.name_loc.item?;
-    let root = db::item_root(db, ItemLoc::new(db, symbol.name_loc.file, item))?;
-    let node = root
-        .descendants()
+/// The whole declaration of every declared symbol of a `symbols` item (for the HG6004 fix),
+/// by the range of its name.
+fn symbol_nodes(db: &dyn salsa::Database, file: File, item: u32) -> HashMap<TextRange, TextRange> {
+    let Some(root) = db::item_root(db, ItemLoc::new(db, file, item)) else {
+        return HashMap::new();
+    };
+    root.descendants()
         .filter(|n| n.kind() == SyntaxKind::SYMBOL)
         .filter_map(ast::Symbol::cast)
-        .find(|s| {
-            s.name()
-                .and_then(|n| n.token())
-                .is_some_and(|t| t.text_range() == symbol.name_loc.range)
-        })?;
-    Some(Loc::in_item(
-        symbol.name_loc.file,
-        item,
-        node.syntax().text_range(),
-    ))
+        .filter_map(|s| {
+            let name = s.name()?.token()?.text_range();
+            Some((name, s.syntax().text_range()))
+        })
+        .collect()
 }
 
 /// HG6001 (type does not fit: on the data type field; local data: on the address field) and

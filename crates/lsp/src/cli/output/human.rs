@@ -27,6 +27,8 @@ pub(super) fn render(report: &Report, sources: &Sources, color: bool) -> String 
         let diagnostic = &reported.diagnostic;
         let source = sources.get(reported.file);
         let message = one_line(&diagnostic.message);
+        // (line, column the renderer prints, column to print) for a window of a long line.
+        let mut column_fix = None;
         let title = level(diagnostic.severity)
             .primary_title(message)
             .id(diagnostic.code.as_str());
@@ -35,6 +37,17 @@ pub(super) fn render(report: &Report, sources: &Sources, color: bool) -> String 
             FileContents::Unreadable { .. } => title.element(origin(source, diagnostic.range)),
             FileContents::Text(_) | FileContents::NotUtf8 { .. } => {
                 let excerpt = Excerpt::new(source, diagnostic.range);
+                if excerpt.cut_left {
+                    // The renderer counts the column of `-->` in the window; it is put right
+                    // in the rendered text below.
+                    let shown = excerpt.text.get(..excerpt.span.start).unwrap_or("");
+                    let right = source.line_index.line_column(diagnostic.range.start());
+                    column_fix = Some((
+                        excerpt.first_line,
+                        shown.chars().count() + 1,
+                        right.column as usize,
+                    ));
+                }
                 title.element(
                     Snippet::source(excerpt.text)
                         .line_start(excerpt.first_line)
@@ -55,7 +68,13 @@ pub(super) fn render(report: &Report, sources: &Sources, color: bool) -> String 
                 Level::HELP.secondary_title(lower_first(&fix.title)),
             ));
         }
-        out.push_str(&renderer.render(&groups));
+        let block = renderer.render(&groups);
+        match column_fix {
+            Some((line, shown, right)) => {
+                out.push_str(&fix_column(&block, &source.name, line, shown, right));
+            }
+            None => out.push_str(&block),
+        }
         out.push_str("\n\n");
     }
     let summary = report.summary;
@@ -85,6 +104,28 @@ fn origin(source: &SourceFile, range: TextRange) -> Origin<'_> {
         .char_column(start.column as usize)
 }
 
+/// `block` with the location `path:line:shown` after its title line changed to
+/// `path:line:right`.
+fn fix_column(block: &str, path: &str, line: usize, shown: usize, right: usize) -> String {
+    let wrong = format!("{path}:{line}:{shown}");
+    let title_end = block.find('\n').unwrap_or(block.len());
+    let found = block[title_end..].match_indices(&wrong).find(|(at, _)| {
+        let after = title_end + at + wrong.len();
+        !block[after..].starts_with(|c: char| c.is_ascii_digit())
+    });
+    match found {
+        Some((at, _)) => {
+            let at = title_end + at;
+            format!(
+                "{}{path}:{line}:{right}{}",
+                &block[..at],
+                &block[at + wrong.len()..]
+            )
+        }
+        None => block.to_owned(),
+    }
+}
+
 /// Fix titles are written like sentences ("Insert ';'"); after `help:` they start in lower
 /// case like every other message. A leading acronym ("HG…", "STL") is left alone.
 fn lower_first(title: &str) -> String {
@@ -102,6 +143,14 @@ fn lower_first(title: &str) -> String {
     }
 }
 
+/// A line longer than this many bytes is shown through a window around the range.
+const LONG_LINE: usize = 4096;
+/// How many bytes of a long line a window keeps on each side of the range. The renderer shows
+/// at most a terminal width of a line around the range, so a window this wide gives the same
+/// picture as the whole line, while the cost of each diagnostic no longer grows with the
+/// length of its line (thousands of diagnostics on one long line stay linear).
+const WINDOW_CONTEXT: usize = 1024;
+
 /// The source lines a range touches, joined with `\n` whatever the file's line breaks (so a
 /// lone CR is a line break for the renderer too), and the range within them.
 struct Excerpt {
@@ -109,6 +158,41 @@ struct Excerpt {
     /// 1-based number of the first line.
     first_line: usize,
     span: Range<usize>,
+    /// The text starts inside its line (a window of a long line).
+    cut_left: bool,
+}
+
+/// The part of a long line to show for a range within it: `WINDOW_CONTEXT` bytes on either
+/// side, cut at character boundaries. On the left the window starts at a character that is
+/// not white space (the renderer treats leading white space specially), and not at all when
+/// there is none in the first half of the context.
+fn window(line: &str, range: Range<usize>) -> Range<usize> {
+    if line.len() <= LONG_LINE {
+        return 0..line.len();
+    }
+    let mut start = 0;
+    if range.start > WINDOW_CONTEXT {
+        let mut at = range.start - WINDOW_CONTEXT;
+        let limit = range.start - WINDOW_CONTEXT / 2;
+        while at < limit && !line.is_char_boundary(at) {
+            at += 1;
+        }
+        while at < limit && line[at..].starts_with(char::is_whitespace) {
+            at += line[at..].chars().next().map_or(1, char::len_utf8);
+        }
+        if at < limit {
+            start = at;
+        }
+    }
+    let mut end = line.len();
+    if line.len() - range.end > WINDOW_CONTEXT {
+        let mut at = range.end + WINDOW_CONTEXT;
+        while !line.is_char_boundary(at) {
+            at -= 1;
+        }
+        end = at;
+    }
+    start..end
 }
 
 impl Excerpt {
@@ -124,6 +208,23 @@ impl Excerpt {
                 .is_some_and(|line| line.start() == range.end())
         {
             last -= 1;
+        }
+        if first == last
+            && let Some(line_range) = index.line_range(first)
+            && let Some(line) = text.get(std::ops::Range::<usize>::from(line_range))
+            && line.len() > LONG_LINE
+        {
+            let line_start = usize::from(line_range.start());
+            let clamp =
+                |offset: TextSize| (usize::from(offset).saturating_sub(line_start)).min(line.len());
+            let span = clamp(range.start())..clamp(range.end());
+            let shown = window(line, span.clone());
+            return Excerpt {
+                text: line[shown.clone()].to_owned(),
+                first_line: first as usize + 1,
+                span: span.start - shown.start..span.end - shown.start,
+                cut_left: shown.start > 0,
+            };
         }
         let mut excerpt = String::new();
         let mut line_offsets = Vec::new();
@@ -158,6 +259,7 @@ impl Excerpt {
             first_line: first as usize + 1,
             span,
             text: excerpt,
+            cut_left: false,
         }
     }
 }
@@ -172,6 +274,75 @@ mod tests {
         assert_eq!(lower_first("STL form"), "STL form");
         assert_eq!(lower_first("Ändern"), "ändern");
         assert_eq!(lower_first(""), "");
+    }
+
+    /// The whole line rendered the way it was before windows, for comparison.
+    fn whole_line(line: &str, line_number: usize, span: Range<usize>) -> String {
+        let title = Level::ERROR.primary_title("bad").id("HG0001");
+        let group = title.element(
+            Snippet::source(line)
+                .line_start(line_number)
+                .path("a.higraph")
+                .annotation(AnnotationKind::Primary.span(span)),
+        );
+        Renderer::plain().render(&[group])
+    }
+
+    #[test]
+    fn long_lines_render_through_a_window_as_the_whole_line() {
+        let cases = [
+            // (leading white space, text before the range, range, text after it)
+            (0, 9000, "BAD", 9000),
+            (4, 20, "BAD", 9000),
+            (0, 9000, "BAD", 10),
+            (3000, 10, "BAD", 9000),
+            (8, 1500, "BAD", 3000),
+            (0, 6000, "ÄÖÜ", 6000),
+            (0, 6000, "BAD", 0),
+        ];
+        for (blanks, before, bad, after) in cases {
+            let pattern = "ab; äx ";
+            let fill = |n: usize| pattern.chars().cycle().take(n).collect::<String>();
+            let line = format!("{}{}{bad}{}", " ".repeat(blanks), fill(before), fill(after));
+            let text = format!("first\n{line}\nlast\n");
+            let start = text.find(bad).unwrap();
+            let range = TextRange::new(
+                TextSize::from(start as u32),
+                TextSize::from((start + bad.len()) as u32),
+            );
+            let sources = Sources::new(vec![SourceFile::new(
+                "a.higraph".into(),
+                FileContents::Text(text.clone()),
+            )]);
+            let diagnostic = higraph_analysis::Diagnostic::new(
+                higraph_analysis::Code::new("HG0001"),
+                Severity::Error,
+                range,
+                "bad",
+            );
+            let report = Report::new(
+                &sources,
+                vec![super::super::Reported {
+                    file: higraph_analysis::FileId(0),
+                    diagnostic,
+                }],
+                1,
+            );
+            let rendered = render(&report, &sources, false);
+            let line_start = start - "first\n".len();
+            let expected = whole_line(&line, 2, line_start..line_start + bad.len());
+            assert!(
+                rendered.starts_with(&expected),
+                "case {blanks}/{before}/{after}:\n{rendered}\nexpected:\n{expected}"
+            );
+            assert!(
+                line.len() <= LONG_LINE
+                    || Excerpt::new(sources.get(higraph_analysis::FileId(0)), range)
+                        .text
+                        .len()
+                        < line.len()
+            );
+        }
     }
 
     #[test]
