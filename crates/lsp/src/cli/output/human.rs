@@ -310,10 +310,14 @@ mod tests {
                 TextSize::from(start as u32),
                 TextSize::from((start + bad.len()) as u32),
             );
-            let sources = Sources::new(vec![SourceFile::new(
-                "a.higraph".into(),
-                FileContents::Text(text.clone()),
-            )]);
+            let sources = Sources::new(
+                vec![SourceFile::new(
+                    "a.higraph".into(),
+                    "a.higraph".into(),
+                    FileContents::Text(text.clone()),
+                )],
+                ".".into(),
+            );
             let diagnostic = higraph_analysis::Diagnostic::new(
                 higraph_analysis::Code::new("HG0001"),
                 Severity::Error,
