@@ -10,7 +10,8 @@
 //! * the new text parses as exactly one member of the same kind that ends with its own `>` and
 //!   has no unclosed `<` (HG0003) — a member that is not closed would swallow the members
 //!   after it in a full parse;
-//! * no diagnostic outside the member points into it.
+//! * no diagnostic outside the member points into it, and none was left out of the old
+//!   parse's list (HG0013).
 //!
 //! Otherwise [`Parse::reparse`] parses the whole file. `tests/reparse.rs` checks on random
 //! edits that both ways give the same tree and the same diagnostics.
@@ -53,6 +54,10 @@ impl Parse {
 
     /// The incremental path of [`Parse::reparse`]: `None` where it does not apply.
     pub fn reparse_member(&self, edit: &Edit, new_text: &str) -> Option<Parse> {
+        if self.errors_summarised() {
+            // The errors left out are not here to be kept: only a full parse knows them.
+            return None;
+        }
         let root = self.syntax_node();
         let old_len = root.text_range().end();
         if edit.delete.end() > old_len

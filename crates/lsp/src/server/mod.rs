@@ -44,6 +44,8 @@ pub fn run() -> ExitCode {
     let runtime = match tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .thread_name("higraph-lsp")
+        // Also the blocking threads, where requests run (`spawn_blocking`).
+        .thread_stack_size(crate::ANALYSIS_STACK_SIZE)
         .build()
     {
         Ok(runtime) => runtime,
