@@ -290,16 +290,23 @@ fn is_word(kind: SyntaxKind) -> bool {
 /// A node's range without leading and trailing white space; `None` for a node of white
 /// space only.
 fn trimmed_range(node: &SyntaxNode) -> Option<TextRange> {
-    let mut tokens = node
-        .descendants_with_tokens()
-        .filter_map(NodeOrToken::into_token)
-        .filter(|t| t.kind() != WHITESPACE);
-    let first = tokens.next()?;
-    let end = tokens
-        .last()
-        .unwrap_or_else(|| first.clone())
-        .text_range()
-        .end();
+    // From each end inwards over white space only: the cost does not grow with the node
+    // (the chain asks this of every ancestor, up to the whole file).
+    let range = node.text_range();
+    let mut first = node.first_token();
+    while let Some(t) = first.take_if(|t| t.kind() == WHITESPACE) {
+        first = t
+            .next_token()
+            .filter(|n| n.text_range().end() <= range.end());
+    }
+    let first = first?;
+    let mut last = node.last_token();
+    while let Some(t) = last.take_if(|t| t.kind() == WHITESPACE) {
+        last = t
+            .prev_token()
+            .filter(|p| p.text_range().start() >= range.start());
+    }
+    let end = last.map_or(first.text_range().end(), |t| t.text_range().end());
     Some(TextRange::new(first.text_range().start(), end))
 }
 
