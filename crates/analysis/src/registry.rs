@@ -101,6 +101,18 @@ pub const RULES: &[Rule] = &[
         "second 'mnemonic' directive; the first one ({set}) applies",
     ),
     rule(
+        "HG0012",
+        Severity::Error,
+        false,
+        "nesting is deeper than {limit} levels",
+    ),
+    rule(
+        "HG0013",
+        Severity::Error,
+        false,
+        "{n} more syntax errors in this file are not listed",
+    ),
+    rule(
         "HG1101",
         Severity::Error,
         false,

@@ -7,6 +7,11 @@ use std::{collections::BTreeMap, fs, path::PathBuf};
 
 use higraph_analysis::registry::RULES;
 
+/// Codes this project adds to the catalogue, each documented in `docs/rules/` like the others:
+/// HG0012 (nesting limit) and HG0013 (syntax errors beyond the listed number), which keep
+/// `tooling.md`'s promise that no input kills the tools or floods their output.
+const PROJECT_CODES: &[&str] = &["HG0012", "HG0013"];
+
 fn catalogue() -> Option<(PathBuf, String)> {
     let candidates = [
         std::env::var_os("HIGRAPH_SPEC_DIR").map(PathBuf::from),
@@ -59,6 +64,7 @@ fn registry_matches_the_catalogue() {
     );
     let ours: BTreeMap<String, (String, bool)> = RULES
         .iter()
+        .filter(|r| !PROJECT_CODES.contains(&r.code.as_str()))
         .map(|r| {
             (
                 r.code.as_str().to_owned(),

@@ -30,11 +30,15 @@ pub enum ErrorCode {
     HG0010,
     /// Second `mnemonic` directive.
     HG0011,
+    /// Nesting deeper than [`crate::NESTING_LIMIT`] levels.
+    HG0012,
+    /// More than [`crate::MAX_SYNTAX_ERRORS`] syntax errors in one file: the rest summarised.
+    HG0013,
 }
 
 impl ErrorCode {
     /// Every syntax code, in order.
-    pub const ALL: [ErrorCode; 11] = [
+    pub const ALL: [ErrorCode; 13] = [
         ErrorCode::HG0001,
         ErrorCode::HG0002,
         ErrorCode::HG0003,
@@ -46,6 +50,8 @@ impl ErrorCode {
         ErrorCode::HG0009,
         ErrorCode::HG0010,
         ErrorCode::HG0011,
+        ErrorCode::HG0012,
+        ErrorCode::HG0013,
     ];
 
     /// The code as written in diagnostics: `"HG0001"`.
@@ -62,6 +68,8 @@ impl ErrorCode {
             ErrorCode::HG0009 => "HG0009",
             ErrorCode::HG0010 => "HG0010",
             ErrorCode::HG0011 => "HG0011",
+            ErrorCode::HG0012 => "HG0012",
+            ErrorCode::HG0013 => "HG0013",
         }
     }
 }

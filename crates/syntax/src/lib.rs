@@ -17,6 +17,7 @@ use std::fmt::Write;
 
 pub use error::{ErrorCode, Fix, Related, SyntaxError, TextEdit};
 pub use kind::{HiGraphLanguage, SyntaxElement, SyntaxKind, SyntaxNode, SyntaxToken};
+pub use parser::NESTING_LIMIT;
 pub use reparse::Edit;
 pub use rowan::{self, GreenNode, TextRange, TextSize, WalkEvent};
 
@@ -85,10 +86,34 @@ impl Parse {
     }
 }
 
+/// At most this many syntax errors of one file are listed; the rest are summarised by one
+/// HG0013 at the first of them. A file with more has lost its structure (a binary file, a
+/// megabyte of `>`), and listing every error, each with its quick fix, would make the output
+/// grow far beyond the problem.
+pub const MAX_SYNTAX_ERRORS: usize = 100;
+
 impl Parse {
     fn new(green: GreenNode, mut errors: Vec<SyntaxError>) -> Parse {
         errors.sort_by_key(|e| (e.range.start(), e.range.end(), e.code));
+        if errors.len() > MAX_SYNTAX_ERRORS {
+            let unlisted = errors.len() - MAX_SYNTAX_ERRORS;
+            let first = errors[MAX_SYNTAX_ERRORS].range;
+            errors.truncate(MAX_SYNTAX_ERRORS);
+            let message = if unlisted == 1 {
+                "1 more syntax error in this file is not listed".to_owned()
+            } else {
+                format!("{unlisted} more syntax errors in this file are not listed")
+            };
+            errors.push(SyntaxError::new(ErrorCode::HG0013, first, message));
+        }
         Parse { green, errors }
+    }
+
+    /// Were some syntax errors summarised by HG0013 ([`MAX_SYNTAX_ERRORS`])?
+    pub fn errors_summarised(&self) -> bool {
+        self.errors
+            .last()
+            .is_some_and(|e| e.code == ErrorCode::HG0013)
     }
 }
 

@@ -59,6 +59,16 @@ fn text_size(offset: usize) -> TextSize {
     TextSize::new(offset as u32)
 }
 
+/// How deep expressions and sequencer elements may nest (HG0012). Each pair of parentheses,
+/// each `not`, each operator (`and`, `or`, `xor`, a comparison) over the operands below it and
+/// each `parallel`/`alt` (with its `branch`) is one level; the levels of an expression inside
+/// nested branches add to those of the branches. No hand-written or generated program comes
+/// near it, and it bounds the depth of every tree the parser builds (at most four tree levels
+/// per level, plus the fixed levels of items and members: about 1 050). Every recursive walk
+/// over the syntax tree — in this crate, the analysis, its editor features, the formatter and
+/// the renderer, and the binary — relies on that bound instead of a limit of its own.
+pub const NESTING_LIMIT: u32 = 256;
+
 /// Marker for "end of input" in lookahead.
 const EOF: SyntaxKind = SyntaxKind::__LAST_TOKEN;
 
@@ -154,6 +164,8 @@ pub(crate) struct Parser<'t> {
     errors: Vec<SyntaxError>,
     /// Number of HG0001 and HG0002 reported so far ([`Parser::recoveries`]).
     recoveries: usize,
+    /// Nesting levels open here ([`NESTING_LIMIT`]).
+    depth: u32,
 }
 
 impl<'t> Parser<'t> {
@@ -273,6 +285,7 @@ impl<'t> Parser<'t> {
             builder,
             errors,
             recoveries: 0,
+            depth: 0,
         }
     }
 
@@ -546,6 +559,55 @@ impl<'t> Parser<'t> {
 
     pub(crate) fn push_error(&mut self, error: SyntaxError) {
         self.errors.push(error);
+    }
+
+    // ------------------------------------------------------------------ nesting
+
+    /// Can `levels` more levels open here without passing [`NESTING_LIMIT`]?
+    pub(crate) fn fits(&self, levels: u32) -> bool {
+        self.depth.saturating_add(levels) <= NESTING_LIMIT
+    }
+
+    /// Runs `f` one nesting level deeper.
+    pub(crate) fn nested<T>(&mut self, f: impl FnOnce(&mut Parser<'t>) -> T) -> T {
+        self.depth += 1;
+        let result = f(self);
+        self.depth -= 1;
+        result
+    }
+
+    /// HG0012 at the current token, the one that would nest too deep.
+    pub(crate) fn error_too_deep(&mut self) {
+        let range = self.nth_range(0);
+        self.errors.push(SyntaxError::new(
+            ErrorCode::HG0012,
+            range,
+            format!("nesting is deeper than {NESTING_LIMIT} levels"),
+        ));
+    }
+
+    /// Adds the tokens from the current `open` token to the `close` that balances it, flat,
+    /// to the tree (the caller wraps them in an ERROR node). Stops early at the end of the
+    /// file, at an item keyword that starts a line and, for parentheses, before a `;`.
+    pub(crate) fn skip_balanced(&mut self, open: SyntaxKind, close: SyntaxKind) {
+        let mut open_count = 0usize;
+        while !self.at_eof() {
+            let kind = self.current();
+            if kind == open {
+                open_count += 1;
+            } else if kind == close {
+                open_count = open_count.saturating_sub(1);
+                if open_count == 0 {
+                    self.bump();
+                    break;
+                }
+            } else if (kind == SEMI && open == L_PAREN)
+                || (self.nth_on_new_line(0) && self.at_item_start())
+            {
+                break;
+            }
+            self.bump();
+        }
     }
 
     /// HG0001 at the current token: `expected {expected}, found {found}`.

@@ -75,8 +75,10 @@ impl Analysis {
 
 // ------------------------------------------------------------------------------ folding
 
-/// Every `<`-opened block spanning several lines.
+/// Every `<`-opened block spanning several lines. Linear in the size of the tree: each node
+/// looks only at its own children, and the line breaks are found once for the file.
 fn block_folds(root: &SyntaxNode) -> Vec<Fold> {
+    let breaks = LineBreaks::of(root);
     let mut folds = Vec::new();
     for node in root.descendants() {
         // `<` and `>` in chart expressions are operators.
@@ -98,7 +100,7 @@ fn block_folds(root: &SyntaxNode) -> Vec<Fold> {
             _ => last_significant_end(&node).unwrap_or(open.text_range().end()),
         };
         let range = TextRange::new(open.text_range().start(), end);
-        if spans_lines(&node, range) {
+        if breaks.inside(range) {
             folds.push(Fold {
                 range,
                 kind: FoldKind::Region,
@@ -108,21 +110,43 @@ fn block_folds(root: &SyntaxNode) -> Vec<Fold> {
     folds
 }
 
-/// The end of the last token of `node` that is not white space or a comment.
+/// The end of the last token of `node` that is not white space or a comment: walks back from
+/// the node's last token over trivia only.
 fn last_significant_end(node: &SyntaxNode) -> Option<TextSize> {
-    node.descendants_with_tokens()
-        .filter_map(NodeOrToken::into_token)
-        .filter(|t| !t.kind().is_trivia())
-        .last()
-        .map(|t| t.text_range().end())
+    let start = node.text_range().start();
+    let mut token = node.last_token();
+    while let Some(t) = token {
+        if t.text_range().start() < start {
+            return None;
+        }
+        if !t.kind().is_trivia() {
+            return Some(t.text_range().end());
+        }
+        token = t.prev_token();
+    }
+    None
 }
 
-/// Does `range` (inside `node`) contain a line break?
-fn spans_lines(node: &SyntaxNode, range: TextRange) -> bool {
-    node.descendants_with_tokens()
-        .filter_map(NodeOrToken::into_token)
-        .filter(|t| range.contains_range(t.text_range()))
-        .any(|t| t.kind() == WHITESPACE && t.text().contains(['\n', '\r']))
+/// The white-space tokens of a file that hold a line break, in text order.
+struct LineBreaks(Vec<TextRange>);
+
+impl LineBreaks {
+    fn of(root: &SyntaxNode) -> LineBreaks {
+        LineBreaks(
+            root.descendants_with_tokens()
+                .filter_map(NodeOrToken::into_token)
+                .filter(|t| t.kind() == WHITESPACE && t.text().contains(['\n', '\r']))
+                .map(|t| t.text_range())
+                .collect(),
+        )
+    }
+
+    /// Does `range` contain one of them? (Tokens do not overlap, so the first one that starts
+    /// in `range` ends first.)
+    fn inside(&self, range: TextRange) -> bool {
+        let first = self.0.partition_point(|r| r.start() < range.start());
+        self.0.get(first).is_some_and(|r| r.end() <= range.end())
+    }
 }
 
 /// Runs of at least two comments on consecutive lines, each alone on its line.
@@ -266,16 +290,23 @@ fn is_word(kind: SyntaxKind) -> bool {
 /// A node's range without leading and trailing white space; `None` for a node of white
 /// space only.
 fn trimmed_range(node: &SyntaxNode) -> Option<TextRange> {
-    let mut tokens = node
-        .descendants_with_tokens()
-        .filter_map(NodeOrToken::into_token)
-        .filter(|t| t.kind() != WHITESPACE);
-    let first = tokens.next()?;
-    let end = tokens
-        .last()
-        .unwrap_or_else(|| first.clone())
-        .text_range()
-        .end();
+    // From each end inwards over white space only: the cost does not grow with the node
+    // (the chain asks this of every ancestor, up to the whole file).
+    let range = node.text_range();
+    let mut first = node.first_token();
+    while let Some(t) = first.take_if(|t| t.kind() == WHITESPACE) {
+        first = t
+            .next_token()
+            .filter(|n| n.text_range().end() <= range.end());
+    }
+    let first = first?;
+    let mut last = node.last_token();
+    while let Some(t) = last.take_if(|t| t.kind() == WHITESPACE) {
+        last = t
+            .prev_token()
+            .filter(|p| p.text_range().start() >= range.start());
+    }
+    let end = last.map_or(first.text_range().end(), |t| t.text_range().end());
     Some(TextRange::new(first.text_range().start(), end))
 }
 

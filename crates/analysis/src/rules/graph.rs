@@ -143,10 +143,19 @@ impl VirtualLayout {
     /// The most members the virtual layout holds.
     pub const MAX_MEMBERS: usize = (u32::MAX / Self::SLOT) as usize - 1;
 
-    /// Where member `ordinal` starts.
+    /// Where member `ordinal` starts. The virtual layout is only used for graphs that fit it
+    /// (`GraphLayout::virtual_ok`: fewer than [`VirtualLayout::MAX_MEMBERS`] members, each and
+    /// the header shorter than a slot), so that no position in it passes `u32::MAX`; past
+    /// that it saturates rather than wrap or panic.
     pub fn offset(&self, ordinal: usize) -> TextSize {
         match self {
-            VirtualLayout::Virtual => TextSize::from((ordinal as u32 + 1) * Self::SLOT),
+            VirtualLayout::Virtual => TextSize::from(
+                u32::try_from(ordinal)
+                    .ok()
+                    .and_then(|o| o.checked_add(1))
+                    .and_then(|slot| slot.checked_mul(Self::SLOT))
+                    .unwrap_or(u32::MAX),
+            ),
             VirtualLayout::Real(offsets) => offsets.get(ordinal).copied().unwrap_or_default(),
         }
     }

@@ -43,6 +43,7 @@ impl DiagnosticsWorker {
         let (jobs, inbox) = mpsc::channel();
         std::thread::Builder::new()
             .name("higraph-diagnostics".into())
+            .stack_size(crate::ANALYSIS_STACK_SIZE)
             .spawn(move || run(inbox, tasks, to_client))?;
         Ok(DiagnosticsWorker { jobs })
     }

@@ -47,6 +47,8 @@ pub fn run() -> ExitCode {
         // The request workers plus a few for reading stdin and writing stdout (tokio's
         // default allows 512 blocking threads).
         .max_blocking_threads(request_workers() + 4)
+        // Also the blocking threads, where requests run (`spawn_blocking`).
+        .thread_stack_size(crate::ANALYSIS_STACK_SIZE)
         .build()
     {
         Ok(runtime) => runtime,

@@ -121,6 +121,7 @@ impl WorldHandle {
         let world = World::new(to_client, tasks.clone());
         let started = std::thread::Builder::new()
             .name("higraph-world".into())
+            .stack_size(crate::ANALYSIS_STACK_SIZE)
             .spawn(move || world.run(inbox));
         if let Err(error) = started {
             // Without the thread every snapshot request fails with an internal error; the

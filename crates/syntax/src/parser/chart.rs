@@ -218,14 +218,25 @@ fn seq_element(p: &mut Parser<'_>) -> bool {
     } else if p.at_kw(LOOP_KW) {
         named_element(p, LOOP, "loop", BodyKind::Conditions, true);
     } else if (p.at_kw(PARALLEL_KW) || p.at_kw(ALT_KW)) && p.nth(1) == L_ANGLE {
+        if !p.fits(1) {
+            // HG0012: the construct, up to its balancing `>`, stays flat in an ERROR node.
+            p.error_too_deep();
+            p.start(ERROR);
+            p.bump_keyword();
+            p.skip_balanced(L_ANGLE, R_ANGLE);
+            p.finish_node();
+            return true;
+        }
         let is_parallel = p.at_kw(PARALLEL_KW);
         p.start(if is_parallel { PARALLEL } else { ALT });
         p.bump_keyword();
-        body_of(
-            p,
-            &if is_parallel { "parallel" } else { "alt" },
-            BodyKind::Branches,
-        );
+        p.nested(|p| {
+            body_of(
+                p,
+                &if is_parallel { "parallel" } else { "alt" },
+                BodyKind::Branches,
+            );
+        });
         p.finish_node();
     } else {
         return false;
@@ -326,7 +337,7 @@ fn at_step_item(p: &Parser<'_>) -> bool {
 fn condition(p: &mut Parser<'_>) {
     p.start(CONDITION);
     let recoveries = p.recoveries();
-    if !expr(p) {
+    if expr(p).is_none() {
         p.error_and_recover("a condition or '>'");
     } else if p.recoveries() == recoveries {
         p.expect_semi(&"the condition", at_operand);
@@ -349,7 +360,7 @@ fn assignment(p: &mut Parser<'_>) {
     }
     p.bump_node(ASSIGN_OP, 2);
     let recoveries = p.recoveries();
-    if !expr(p) {
+    if expr(p).is_none() {
         p.error_and_recover("an expression");
     } else if p.recoveries() == recoveries {
         p.expect_semi(&"the assignment", |p| matches!(p.current(), IDENT | STRING));
@@ -362,33 +373,58 @@ fn at_operand(p: &Parser<'_>) -> bool {
     p.nth_starts_operand(0)
 }
 
-/// `expr = xor_expr { or xor_expr }` and so on down. Returns `false` (consuming nothing) if
+/// `expr = xor_expr { or xor_expr }` and so on down. Returns `None` (consuming nothing) if
 /// no expression starts here; errors inside are reported and recovered.
-fn expr(p: &mut Parser<'_>) -> bool {
+///
+/// The functions below return the *height* of what they built: the number of binary,
+/// prefix and parenthesised expressions (and ERROR nodes holding operands) on the longest
+/// path down to an operand. Called with `p.depth` levels open, they keep `depth + height` within
+/// [`super::NESTING_LIMIT`]: an operator, `not` or `(` that would pass it reports HG0012
+/// (`Parser::error_too_deep`) and its part of the expression stays flat in an ERROR node. A
+/// left-associative chain (`a or b or c ...`) nests its left operand one level deeper with
+/// every operator, which is why the heights are needed and not only the open levels.
+fn expr(p: &mut Parser<'_>) -> Option<u32> {
     binary(p, 0)
 }
 
 const LEVELS: [&str; 3] = ["or", "xor", "and"];
 
-fn binary(p: &mut Parser<'_>, level: usize) -> bool {
+fn binary(p: &mut Parser<'_>, level: usize) -> Option<u32> {
     if level == LEVELS.len() {
         return comparison(p);
     }
     let checkpoint = p.checkpoint();
-    if !binary(p, level + 1) {
-        return false;
-    }
+    let mut height = binary(p, level + 1)?;
     while p.at_word(LEVELS[level]) {
+        if !p.fits(height + 1) {
+            // The rest of the chain, flat: its operands side by side in one ERROR node.
+            p.error_too_deep();
+            p.start(ERROR);
+            let mut rest = 0;
+            while p.at_word(LEVELS[level]) {
+                p.bump_keyword();
+                match p.nested(|p| binary(p, level + 1)) {
+                    Some(h) => rest = rest.max(h),
+                    None => {
+                        p.error_and_recover("an operand");
+                        break;
+                    }
+                }
+            }
+            p.finish_node();
+            return Some(height.max(rest + 1));
+        }
         p.start_at(checkpoint, BIN_EXPR);
         p.bump_keyword();
-        if !binary(p, level + 1) {
+        let Some(right) = p.nested(|p| binary(p, level + 1)) else {
             p.error_and_recover("an operand");
             p.finish_node();
-            return true;
-        }
+            return Some(height + 1);
+        };
+        height = height.max(right) + 1;
         p.finish_node();
     }
-    true
+    Some(height)
 }
 
 /// Number of tokens of a comparison operator here, or 0. A lone `>` is a comparison only if
@@ -406,46 +442,66 @@ fn compare_op_len(p: &Parser<'_>) -> usize {
     }
 }
 
-fn comparison(p: &mut Parser<'_>) -> bool {
+fn comparison(p: &mut Parser<'_>) -> Option<u32> {
     let checkpoint = p.checkpoint();
-    if !unary(p) {
-        return false;
-    }
+    let left = unary(p)?;
     let n = compare_op_len(p);
-    if n > 0 {
-        p.start_at(checkpoint, BIN_EXPR);
-        if n == 2 {
-            p.bump_node(COMPARE_OP, 2);
-        } else {
-            p.bump();
-        }
-        if !unary(p) {
-            p.error_and_recover("an operand");
-        }
-        p.finish_node();
+    if n == 0 {
+        return Some(left);
     }
-    true
+    // Too deep: the operator and the right operand stay flat beside the left one.
+    let wrap = p.fits(left + 1);
+    if wrap {
+        p.start_at(checkpoint, BIN_EXPR);
+    } else {
+        p.error_too_deep();
+        p.start(ERROR);
+    }
+    if n == 2 {
+        p.bump_node(COMPARE_OP, 2);
+    } else {
+        p.bump();
+    }
+    let right = p.nested(unary);
+    if right.is_none() {
+        p.error_and_recover("an operand");
+    }
+    p.finish_node();
+    let right = right.unwrap_or(0);
+    Some(if wrap {
+        left.max(right) + 1
+    } else {
+        left.max(right + 1)
+    })
 }
 
-fn unary(p: &mut Parser<'_>) -> bool {
+fn unary(p: &mut Parser<'_>) -> Option<u32> {
     if p.at_kw(NOT_KW) {
+        if !p.fits(1) {
+            return Some(too_deep_operand(p));
+        }
         p.start(PREFIX_EXPR);
         p.bump_keyword();
-        if !unary(p) {
+        let inner = p.nested(unary);
+        if inner.is_none() {
             p.error_and_recover("an operand");
         }
         p.finish_node();
-        return true;
+        return Some(inner.unwrap_or(0) + 1);
     }
     primary(p)
 }
 
-fn primary(p: &mut Parser<'_>) -> bool {
+fn primary(p: &mut Parser<'_>) -> Option<u32> {
     if p.at(L_PAREN) {
+        if !p.fits(1) {
+            return Some(too_deep_operand(p));
+        }
         p.start(PAREN_EXPR);
         p.bump();
         let recoveries = p.recoveries();
-        if !expr(p) {
+        let inner = p.nested(expr);
+        if inner.is_none() {
             p.error_and_recover("an expression");
         } else if p.recoveries() == recoveries {
             if p.at(R_PAREN) {
@@ -455,9 +511,26 @@ fn primary(p: &mut Parser<'_>) -> bool {
             }
         }
         p.finish_node();
-        return true;
+        return Some(inner.unwrap_or(0) + 1);
     }
-    chart_operand(p)
+    chart_operand(p).then_some(0)
+}
+
+/// HG0012 at a `not` or `(` that would nest too deep: the `not`s, then the parenthesised
+/// expression (up to its balancing `)`) or the operand, flat in one ERROR node.
+fn too_deep_operand(p: &mut Parser<'_>) -> u32 {
+    p.error_too_deep();
+    p.start(ERROR);
+    while p.at_kw(NOT_KW) {
+        p.bump_keyword();
+    }
+    if p.at(L_PAREN) {
+        p.skip_balanced(L_PAREN, R_PAREN);
+    } else {
+        chart_operand(p);
+    }
+    p.finish_node();
+    0
 }
 
 /// An operand in a chart: a constant, an address, `"symbol"` or a dotted path.

@@ -178,27 +178,50 @@ fn report_branch_count(ctx: &mut Ctx<'_>, tree: &Tree, id: ElemId, parallel: boo
         format!("{what} needs at least 2 branches; it has {n}"),
     );
     if n == 1
-        && let Some(inner) = single_branch_text(elem.node.syntax())
+        && let Some(inner) = single_branch_inner(elem.node.syntax())
     {
-        diag = diag.fix(
+        // Two deletions around the branch's elements, so the fix stays small however much
+        // the branch holds.
+        let outer = elem.node.syntax().text_range();
+        diag = diag.fix_edits(
             format!("Dissolve the {what}"),
-            ctx.loc(elem.node.syntax().text_range()),
-            inner,
+            vec![
+                (
+                    ctx.loc(TextRange::new(outer.start(), inner.start())),
+                    String::new(),
+                ),
+                (
+                    ctx.loc(TextRange::new(inner.end(), outer.end())),
+                    String::new(),
+                ),
+            ],
         );
     }
     ctx.push(diag);
 }
 
-/// The text between the `<` and `>` of the only branch of a parallel or alt, trimmed.
-fn single_branch_text(node: &higraph_syntax::SyntaxNode) -> Option<String> {
+/// The range between the `<` and `>` of the only branch of a parallel or alt, without the
+/// white space at its ends.
+fn single_branch_inner(node: &higraph_syntax::SyntaxNode) -> Option<TextRange> {
     let branch = body_children(node).find(|n| n.kind() == SyntaxKind::BRANCH)?;
     let body = ast::Body::cast(branch.children().find(|n| n.kind() == SyntaxKind::BODY)?)?;
     let open = body.l_angle()?.text_range().end();
     let close = body.r_angle()?.text_range().start();
-    let text = body.syntax().text().to_string();
-    let base = body.syntax().text_range().start();
-    let inner = text.get(usize::from(open - base)..usize::from(close - base))?;
-    Some(inner.trim().to_owned())
+    // The first and last children between them that are not white space (the body's own
+    // children only: nested bodies are not walked, so nested fixes cost nothing extra).
+    let mut inside = body.syntax().children_with_tokens().filter(|e| {
+        let r = e.text_range();
+        r.start() >= open && r.end() <= close && e.kind() != SyntaxKind::WHITESPACE
+    });
+    let Some(first) = inside.next() else {
+        return Some(TextRange::empty(open));
+    };
+    let end = inside
+        .last()
+        .unwrap_or_else(|| first.clone())
+        .text_range()
+        .end();
+    Some(TextRange::new(first.text_range().start(), end))
 }
 
 /// HG7003 (parallel branch) and HG7004 (alternative branch). A branch wrong at both ends gets

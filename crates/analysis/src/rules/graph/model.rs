@@ -528,13 +528,16 @@ impl<'a> GraphModel<'a> {
 /// to no priority range (source `return`, a state that does not exist, or a broken header).
 // Public for the formatter, which writes implicit priorities out (`tooling.md` §2a).
 pub fn effective_priorities(graph: &ast::Graph) -> Vec<Option<u64>> {
-    let facts: Vec<MemberFacts> = graph
+    let members: Vec<_> = graph
         .body()
         .into_iter()
         .flat_map(|b| b.syntax().children())
-        .map(|m| MemberFacts::of(&m))
         .collect();
-    let model = GraphModel::new(String::new(), &facts, false, VirtualLayout::Virtual);
+    let facts: Vec<MemberFacts> = members.iter().map(MemberFacts::of).collect();
+    // The members where they stand: the virtual layout holds only so many members (and the
+    // positions do not matter here).
+    let offsets = members.iter().map(|m| m.text_range().start()).collect();
+    let model = GraphModel::new(String::new(), &facts, false, VirtualLayout::Real(offsets));
     model.transitions.iter().map(|t| t.priority).collect()
 }
 
