@@ -100,8 +100,11 @@ fn a_cold_check_of_many_files_runs_each_query_a_fixed_number_of_times_per_file()
     assert!(small.get("parse").is_some_and(|&n| n == 20), "{small:#?}");
     for (query, &count) in &big {
         let before = small.get(query).copied().unwrap_or(0);
+        // Graphs are cut into content-defined chunks, so the chunks per file vary a little
+        // with the generated names: a quarter of slack, where a scan of every file per file
+        // would be 64 times.
         assert!(
-            count <= 8 * before,
+            count <= 10 * before,
             "{query}: {before} times for 20 files, {count} for 160"
         );
     }

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::workspace::display_name;
+use crate::workspace::{display_name, name_path};
 
 /// Converts workspace-relative names to names relative to the current directory.
 #[derive(Debug, Clone)]
@@ -37,7 +37,20 @@ impl OutputPaths {
     /// The output name of the file whose workspace name is `name` (a workspace-relative `/`
     /// path, or an absolute path for a file outside the workspace).
     pub(crate) fn name(&self, name: &str) -> String {
-        self.of_path(&normalize(&self.root.join(name)))
+        // Names are written by `workspace::name_text` component by component (bytes that are
+        // not UTF-8 as `\xNN`): turn them back into the real path, or they would be escaped
+        // twice.
+        let start = if name.starts_with('/') {
+            PathBuf::from("/")
+        } else {
+            self.root.clone()
+        };
+        let path = name
+            .split('/')
+            .filter(|part| !part.is_empty())
+            .map(name_path)
+            .fold(start, |path, part| path.join(part));
+        self.of_path(&normalize(&path))
     }
 
     /// The output name of an absolute path: relative to the current directory with `/`, or
