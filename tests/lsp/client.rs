@@ -146,12 +146,12 @@ impl Server {
             let mut reader = BufReader::new(stdout);
             while let Some(message) = read_message(&mut reader) {
                 // The server's own requests get an empty success, as most editors answer.
-                if message.get("method").is_some() {
-                    if let Some(id) = message.get("id") {
-                        let reply = json!({"jsonrpc": "2.0", "id": id, "result": null});
-                        if let Some(stdin) = answer.lock().expect("stdin lock").as_mut() {
-                            let _ = write_message(stdin, &reply);
-                        }
+                if message.get("method").is_some()
+                    && let Some(id) = message.get("id")
+                {
+                    let reply = json!({"jsonrpc": "2.0", "id": id, "result": null});
+                    if let Some(stdin) = answer.lock().expect("stdin lock").as_mut() {
+                        let _ = write_message(stdin, &reply);
                     }
                 }
                 if tx.send(message).is_err() {
@@ -423,10 +423,10 @@ fn read_message(reader: &mut impl BufRead) -> Option<Value> {
         if line.is_empty() {
             break;
         }
-        if let Some((name, value)) = line.split_once(':') {
-            if name.eq_ignore_ascii_case("content-length") {
-                length = value.trim().parse::<usize>().ok();
-            }
+        if let Some((name, value)) = line.split_once(':')
+            && name.eq_ignore_ascii_case("content-length")
+        {
+            length = value.trim().parse::<usize>().ok();
         }
     }
     let mut body = vec![0; length?];

@@ -302,7 +302,7 @@ fn navigation_outline_and_the_other_requests_answer() {
         )
         .expect("tokens");
     let data = tokens["data"].as_array().expect("data");
-    assert!(!data.is_empty() && data.len() % 5 == 0, "{tokens}");
+    assert!(!data.is_empty() && data.len().is_multiple_of(5), "{tokens}");
 
     let highlights = server
         .request("textDocument/documentHighlight", position(&group, message))

@@ -68,7 +68,7 @@ fn main() {
 fn edit_and_check(host: &mut AnalysisHost, path: &str, at: usize, i: usize) {
     let edit = higraph_syntax::Edit {
         delete: higraph_syntax::TextRange::at((at as u32).into(), 1.into()),
-        insert: if i % 2 == 0 { "O" } else { "U" }.to_owned(),
+        insert: if i.is_multiple_of(2) { "O" } else { "U" }.to_owned(),
     };
     host.apply_edits(path, &[edit]);
     let _ = host.analysis().diagnostics().len();

@@ -121,10 +121,10 @@ impl Config {
 
     /// The severity of `code` after overrides; `None` if the rule is off.
     pub fn severity(&self, code: &str) -> Level {
-        if let Some(level) = self.severities.get(code) {
-            if !is_fixed(code) {
-                return *level;
-            }
+        if let Some(level) = self.severities.get(code)
+            && !is_fixed(code)
+        {
+            return *level;
         }
         let rule = registry::rule_of(code)?;
         (!rule.off_by_default).then_some(rule.default_severity)

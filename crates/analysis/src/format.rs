@@ -976,25 +976,23 @@ impl Formatter<'_> {
                     self.collect((*element).clone(), out);
                 }
                 let has_prio = clauses.iter().any(|c| c.kind() == PRIO_CLAUSE);
-                if !has_prio {
-                    if let Some(&prio) = self.prios.get(&node.text_range().start()) {
-                        out.push(Piece {
-                            token: None,
-                            start: None,
-                            text: "prio".to_owned(),
-                            kind: PRIO_KW,
-                            parent: PRIO_CLAUSE,
-                            sep: Sep::Space,
-                        });
-                        out.push(Piece {
-                            token: None,
-                            start: None,
-                            text: prio.to_string(),
-                            kind: NUMBER,
-                            parent: PRIO_CLAUSE,
-                            sep: Sep::Space,
-                        });
-                    }
+                if !has_prio && let Some(&prio) = self.prios.get(&node.text_range().start()) {
+                    out.push(Piece {
+                        token: None,
+                        start: None,
+                        text: "prio".to_owned(),
+                        kind: PRIO_KW,
+                        parent: PRIO_CLAUSE,
+                        sep: Sep::Space,
+                    });
+                    out.push(Piece {
+                        token: None,
+                        start: None,
+                        text: prio.to_string(),
+                        kind: NUMBER,
+                        parent: PRIO_CLAUSE,
+                        sep: Sep::Space,
+                    });
                 }
                 if reorder {
                     let of = |kind| clauses.iter().filter(move |c| c.kind() == kind);
@@ -1062,10 +1060,10 @@ impl Formatter<'_> {
         // A `// higraph-allow:` comment covers its own line and the next one, so next to one
         // the input's choice between one line and several is kept: joining or splitting lines
         // would change which diagnostics it suppresses.
-        if let Some((first, last)) = self.tokens.span(node.text_range()) {
-            if self.tokens.allow_comment_around(first, last) {
-                return !self.tokens.line_breaks_in(first + 1, last);
-            }
+        if let Some((first, last)) = self.tokens.span(node.text_range())
+            && self.tokens.allow_comment_around(first, last)
+        {
+            return !self.tokens.line_breaks_in(first + 1, last);
         }
         let members = &split.members;
         if members.is_empty() {
@@ -1186,14 +1184,12 @@ impl Formatter<'_> {
             .max()
             .unwrap_or(0);
         for (member, mut pieces) in members.iter().zip(lines) {
-            if member.kind() == kind {
-                if let (Some(at), Some(w)) =
+            if member.kind() == kind
+                && let (Some(at), Some(w)) =
                     (pieces.iter().position(&is_anchor), before_anchor(&pieces))
-                {
-                    if at > 0 {
-                        pieces[at].sep = Sep::Pad(column.saturating_sub(w) + 1);
-                    }
-                }
+                && at > 0
+            {
+                pieces[at].sep = Sep::Pad(column.saturating_sub(w) + 1);
             }
             self.em.pieces(Place::member(indent), &pieces);
         }
@@ -1267,11 +1263,9 @@ fn stream_node(node: &SyntaxNode, prios: &HashMap<TextSize, u64>, out: &mut Vec<
     let mut header_done = false;
     for child in rest {
         if !header_done && child.as_node().is_some_and(|n| n.kind() == BODY) {
-            if !has_prio {
-                if let Some(prio) = prios.get(&node.text_range().start()) {
-                    out.push(format!("{PRIO_CLAUSE:?} {PRIO_KW:?} prio"));
-                    out.push(format!("{PRIO_CLAUSE:?} {NUMBER:?} {prio}"));
-                }
+            if !has_prio && let Some(prio) = prios.get(&node.text_range().start()) {
+                out.push(format!("{PRIO_CLAUSE:?} {PRIO_KW:?} prio"));
+                out.push(format!("{PRIO_CLAUSE:?} {NUMBER:?} {prio}"));
             }
             for (_, clause) in &clauses {
                 stream_node(clause, prios, out);

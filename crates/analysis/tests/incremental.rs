@@ -44,10 +44,10 @@ fn editing_one_graph_reuses_the_other_items_and_files() {
     let log: Arc<Mutex<Vec<String>>> = Arc::default();
     let sink = log.clone();
     let mut host = AnalysisHost::with_event_callback(move |event| {
-        if let salsa::EventKind::WillExecute { database_key } = event.kind {
-            if let Ok(mut log) = sink.lock() {
-                log.push(format!("{database_key:?}"));
-            }
+        if let salsa::EventKind::WillExecute { database_key } = event.kind
+            && let Ok(mut log) = sink.lock()
+        {
+            log.push(format!("{database_key:?}"));
         }
     });
     host.load(WorkspaceData {
@@ -120,10 +120,10 @@ fn a_keystroke_in_a_transition_reanalyses_one_chunk_of_members() {
     let log: Arc<Mutex<Vec<String>>> = Arc::default();
     let sink = log.clone();
     let mut host = AnalysisHost::with_event_callback(move |event| {
-        if let salsa::EventKind::WillExecute { database_key } = event.kind {
-            if let Ok(mut log) = sink.lock() {
-                log.push(format!("{database_key:?}"));
-            }
+        if let salsa::EventKind::WillExecute { database_key } = event.kind
+            && let Ok(mut log) = sink.lock()
+        {
+            log.push(format!("{database_key:?}"));
         }
     });
     let text = ring(300);

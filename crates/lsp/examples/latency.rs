@@ -180,7 +180,7 @@ struct Samples {
 
 /// The character of round `round`: odd rounds break the operation, even ones repair it.
 fn replacement(round: usize) -> &'static str {
-    if round % 2 == 0 { "X" } else { "N" }
+    if round.is_multiple_of(2) { "X" } else { "N" }
 }
 
 fn over_stdio(
@@ -471,10 +471,10 @@ fn read_message(reader: &mut impl BufRead) -> Option<Value> {
         if line.is_empty() {
             break;
         }
-        if let Some((name, value)) = line.split_once(':') {
-            if name.eq_ignore_ascii_case("content-length") {
-                length = value.trim().parse::<usize>().ok();
-            }
+        if let Some((name, value)) = line.split_once(':')
+            && name.eq_ignore_ascii_case("content-length")
+        {
+            length = value.trim().parse::<usize>().ok();
         }
     }
     let mut body = vec![0; length?];

@@ -523,13 +523,13 @@ impl<'t> Parser<'t> {
     /// Wraps `n` tokens in a node.
     pub(crate) fn bump_node(&mut self, kind: SyntaxKind, n: usize) {
         // Most nodes of one token (`NAME_REF`, `OPCODE`, ...) were made before: add that node.
-        if n == 1 {
-            if let Some(&token) = self.significant.get(self.pos) {
-                self.flush_trivia();
-                if self.builder.push_wrapped(kind, token.id) {
-                    self.advance(token);
-                    return;
-                }
+        if n == 1
+            && let Some(&token) = self.significant.get(self.pos)
+        {
+            self.flush_trivia();
+            if self.builder.push_wrapped(kind, token.id) {
+                self.advance(token);
+                return;
             }
         }
         self.start(kind);

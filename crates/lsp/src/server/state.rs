@@ -627,10 +627,10 @@ impl World {
                 }
             }
             let snapshot = self.snapshot();
-            if let Some(worker) = &self.diagnostics {
-                if worker.analyse(self.revision, snapshot) {
-                    return;
-                }
+            if let Some(worker) = &self.diagnostics
+                && worker.analyse(self.revision, snapshot)
+            {
+                return;
             }
             self.diagnostics = None;
         }

@@ -355,15 +355,15 @@ async fn read_frame<R: AsyncBufRead + Unpin>(reader: &mut R) -> Frame {
             continue;
         }
         saw_header = true;
-        if let Some((name, value)) = text.split_once(':') {
-            if name.trim().eq_ignore_ascii_case("content-length") {
-                content_length = Some(
-                    value
-                        .trim()
-                        .parse::<usize>()
-                        .map_err(|_| format!("bad Content-Length '{}'", value.trim())),
-                );
-            }
+        if let Some((name, value)) = text.split_once(':')
+            && name.trim().eq_ignore_ascii_case("content-length")
+        {
+            content_length = Some(
+                value
+                    .trim()
+                    .parse::<usize>()
+                    .map_err(|_| format!("bad Content-Length '{}'", value.trim())),
+            );
         }
     }
     let length = match content_length {

@@ -66,10 +66,10 @@ impl PathMap {
             }
         }
         // The client may name the file through a link the root does not go through.
-        if let (Some(root), Ok(canonical)) = (&self.root, std::fs::canonicalize(path)) {
-            if canonical.starts_with(root) {
-                return workspace::display_name(root, &canonical);
-            }
+        if let (Some(root), Ok(canonical)) = (&self.root, std::fs::canonicalize(path))
+            && canonical.starts_with(root)
+        {
+            return workspace::display_name(root, &canonical);
         }
         workspace::absolute_name(path)
     }

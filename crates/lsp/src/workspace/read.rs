@@ -97,9 +97,9 @@ fn too_large(limit: u64) -> String {
 /// `32 MiB`, `1 MiB`, `512 KiB`.
 pub(crate) fn size_text(bytes: u64) -> String {
     const MIB: u64 = 1024 * 1024;
-    if bytes % MIB == 0 {
+    if bytes.is_multiple_of(MIB) {
         format!("{} MiB", bytes / MIB)
-    } else if bytes % 1024 == 0 {
+    } else if bytes.is_multiple_of(1024) {
         format!("{} KiB", bytes / 1024)
     } else {
         format!("{bytes} bytes")

@@ -127,12 +127,12 @@ impl<'t> TreeBuilder<'t> {
             self.fixed[kind as usize] = id;
             return id;
         }
-        if kind == WHITESPACE {
-            if let Some(slot) = indentation_slot(text) {
-                let id = self.new_token(kind, text);
-                self.indentation[slot] = id;
-                return id;
-            }
+        if kind == WHITESPACE
+            && let Some(slot) = indentation_slot(text)
+        {
+            let id = self.new_token(kind, text);
+            self.indentation[slot] = id;
+            return id;
         }
         let key = TokenKey::new(kind, text);
         match self.token_ids.get(&key) {
@@ -191,13 +191,13 @@ impl<'t> TreeBuilder<'t> {
             .pop()
             .expect("finish_node without a matching start_node");
         let children = &self.children[first..];
-        if let [token] = *children {
-            if token < NODE_BIT {
-                let (wrapper, id) = self.wrapped[token as usize];
-                if wrapper == kind {
-                    self.children[first] = id | NODE_BIT;
-                    return;
-                }
+        if let [token] = *children
+            && token < NODE_BIT
+        {
+            let (wrapper, id) = self.wrapped[token as usize];
+            if wrapper == kind {
+                self.children[first] = id | NODE_BIT;
+                return;
             }
         }
         let child = match intern_key(kind, children) {
@@ -208,10 +208,10 @@ impl<'t> TreeBuilder<'t> {
                     let id = push_id(&mut self.nodes, node);
                     assert!(id < OWNED - NODE_BIT, "fewer than 2^30 distinct nodes");
                     self.node_ids.insert(key, id);
-                    if let [token] = self.children[first..] {
-                        if token < NODE_BIT {
-                            self.wrapped[token as usize] = (kind, id);
-                        }
+                    if let [token] = self.children[first..]
+                        && token < NODE_BIT
+                    {
+                        self.wrapped[token as usize] = (kind, id);
                     }
                     id | NODE_BIT
                 }

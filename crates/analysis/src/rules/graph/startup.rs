@@ -141,12 +141,12 @@ fn check_dead_ends(ctx: &mut Ctx<'_>, model: &GraphModel<'_>) {
     let mut any_targets: Vec<usize> = Vec::new();
     let mut way_out = vec![false; model.states.len()];
     for t in &model.transitions {
-        if t.is_any() && !t.startup {
-            if let Some(target) = t.target_state {
-                if !any_targets.contains(&target) {
-                    any_targets.push(target);
-                }
-            }
+        if t.is_any()
+            && !t.startup
+            && let Some(target) = t.target_state
+            && !any_targets.contains(&target)
+        {
+            any_targets.push(target);
         }
         let Some(source) = t.source_state else {
             continue;

@@ -164,10 +164,10 @@ fn check_numbering(ctx: &mut Ctx<'_>, header: &GraphHeader, model: &GraphModel<'
     let renumbered = |value: u64| numbers.iter().position(|&v| v == value);
     let mut edits = Vec::new();
     for state in model.states.iter().filter(|s| s.in_range()) {
-        if let Some(new) = state.value.and_then(renumbered) {
-            if state.value != Some(new as u64) {
-                edits.push((ctx.loc(state.number_range()), new.to_string()));
-            }
+        if let Some(new) = state.value.and_then(renumbered)
+            && state.value != Some(new as u64)
+        {
+            edits.push((ctx.loc(state.number_range()), new.to_string()));
         }
     }
     for t in &model.transitions {
@@ -180,10 +180,10 @@ fn check_numbering(ctx: &mut Ctx<'_>, header: &GraphHeader, model: &GraphModel<'
             if !state.in_range() {
                 continue;
             }
-            if let Some(new) = state.value.and_then(renumbered) {
-                if state.value != Some(new as u64) || endpoint.text != new.to_string() {
-                    edits.push((ctx.loc(endpoint.range), new.to_string()));
-                }
+            if let Some(new) = state.value.and_then(renumbered)
+                && (state.value != Some(new as u64) || endpoint.text != new.to_string())
+            {
+                edits.push((ctx.loc(endpoint.range), new.to_string()));
             }
         }
     }
