@@ -78,6 +78,8 @@ pub enum FormatError {
     Syntax(Vec<SyntaxError>),
     /// The formatter's result failed its own check (a bug); the file is left as it is.
     Internal(String),
+    /// [`format_with`]'s caller no longer wants the result.
+    Cancelled,
 }
 
 impl fmt::Display for FormatError {
@@ -88,6 +90,7 @@ impl fmt::Display for FormatError {
                 n => write!(f, "the file has {n} syntax errors"),
             },
             FormatError::Internal(reason) => write!(f, "internal formatter error: {reason}"),
+            FormatError::Cancelled => f.write_str("formatting was cancelled"),
         }
     }
 }
@@ -97,7 +100,22 @@ impl std::error::Error for FormatError {}
 /// Formats a whole file in the canonical layout. Idempotent: formatting the result again
 /// gives the same text.
 pub fn format(text: &str) -> Result<String, FormatError> {
+    format_with(text, &|| false)
+}
+
+/// [`format`], asking `is_cancelled` between members and phases: once it answers `true` the
+/// work stops and the result is [`FormatError::Cancelled`] (a language server whose request
+/// was cancelled must not keep computing it).
+pub fn format_with(text: &str, is_cancelled: &dyn Fn() -> bool) -> Result<String, FormatError> {
+    let stop = || {
+        if is_cancelled() {
+            Err(FormatError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
     let parsed = parse(text);
+    stop()?;
     if !parsed.errors().is_empty() {
         return Err(FormatError::Syntax(parsed.errors().to_vec()));
     }
@@ -111,13 +129,20 @@ pub fn format(text: &str) -> Result<String, FormatError> {
     }
     let tokens = TokenTable::new(&root);
     let prios = file_priorities(&root);
+    stop()?;
     let mut formatter = Formatter {
         tokens: &tokens,
         prios: &prios,
         em: Emitter::new(&tokens),
+        is_cancelled,
+        cancelled: false,
     };
     formatter.source_file(&root);
+    if formatter.cancelled {
+        return Err(FormatError::Cancelled);
+    }
     let body = formatter.em.finish()?;
+    stop()?;
 
     let mut out = String::with_capacity(body.len() + 16);
     if text.starts_with('\u{FEFF}') {
@@ -832,6 +857,10 @@ struct Formatter<'t> {
     tokens: &'t TokenTable,
     prios: &'t HashMap<TextSize, u64>,
     em: Emitter<'t>,
+    /// Asked before each member is laid out.
+    is_cancelled: &'t dyn Fn() -> bool,
+    /// Set once `is_cancelled` said so: every later member is skipped.
+    cancelled: bool,
 }
 
 impl Formatter<'_> {
@@ -1100,6 +1129,10 @@ impl Formatter<'_> {
     /// Writes a member at `place`; `indent` is its own indentation level (its body's members
     /// go one level deeper).
     fn layout(&mut self, node: &SyntaxNode, place: Place, indent: usize) {
+        if self.cancelled || (self.is_cancelled)() {
+            self.cancelled = true;
+            return;
+        }
         if self.fits_on_one_line(node, indent) {
             let pieces = self.inline(node);
             self.em.pieces(place, &pieces);

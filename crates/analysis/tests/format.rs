@@ -437,3 +437,29 @@ fn formatting_keeps_the_diagnostics() {
         "only {formatted_files} files formatted"
     );
 }
+
+#[test]
+fn a_cancelled_format_stops_and_says_so() {
+    use std::cell::Cell;
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/drilling/graphs/ventil_2e.higraph"
+    ))
+    .expect("example");
+    // Never cancelled: the same as `format`, and the question was asked member by member.
+    let asked = Cell::new(0);
+    let result = higraph_analysis::format::format_with(&text, &|| {
+        asked.set(asked.get() + 1);
+        false
+    });
+    assert_eq!(result, format(&text));
+    assert!(asked.get() > 3, "asked {} times", asked.get());
+    // Cancelled after the third question: no text, and no question after the answer.
+    let asked = Cell::new(0);
+    let result = higraph_analysis::format::format_with(&text, &|| {
+        asked.set(asked.get() + 1);
+        asked.get() > 3
+    });
+    assert_eq!(result, Err(FormatError::Cancelled));
+    assert_eq!(asked.get(), 4);
+}

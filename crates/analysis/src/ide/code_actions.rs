@@ -85,7 +85,11 @@ impl Analysis {
                 "'{path}' cannot be formatted: it is not UTF-8 text"
             )));
         };
-        let formatted = format::format(text);
+        // Asked before each member: a cancelled request or an edit stops the formatter.
+        let formatted = format::format_with(text, &|| self.check_cancelled(is_cancelled).is_err());
+        if formatted == Err(format::FormatError::Cancelled) {
+            return Err(salsa::Cancelled::Local);
+        }
         self.check_cancelled(is_cancelled)?;
         Ok(match formatted {
             Ok(formatted) => Ok(line_diff(text, &formatted)),

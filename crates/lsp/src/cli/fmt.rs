@@ -150,6 +150,7 @@ fn describe(text: &str, error: &FormatError) -> String {
         FormatError::Internal(reason) => {
             format!("the formatter failed ({reason}); left unchanged, please report this")
         }
+        FormatError::Cancelled => "formatting was cancelled; left unchanged".to_string(),
     }
 }
 
