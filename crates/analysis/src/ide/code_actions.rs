@@ -548,6 +548,13 @@ graph Ventil <
         let mut paths = Vec::new();
         for root in &roots {
             for code in fs::read_dir(root).into_iter().flatten().flatten() {
+                // At the nesting limit (HG0012) a fix that removes one level lets the level
+                // the parser flattened parse again, and at the syntax-error cap (HG0013) one
+                // fixed error lets the first unlisted one be listed, with the same code: those
+                // fixtures pin the limits, not fixes.
+                if code.file_name() == "HG0012" || code.file_name() == "HG0013" {
+                    continue;
+                }
                 for file in fs::read_dir(code.path()).into_iter().flatten().flatten() {
                     if file.path().extension().is_some_and(|e| e == "higraph") {
                         paths.push(file.path());
