@@ -8,27 +8,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
 
-use crate::client::{Server, TempTree, file_uri};
-
-/// xorshift64*: the same session on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn below(&mut self, n: usize) -> usize {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 33) as usize % n.max(1)
-    }
-
-    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
-        &items[self.below(items.len())]
-    }
-
-    fn chance(&mut self, percent: usize) -> bool {
-        self.below(100) < percent
-    }
-}
+use crate::client::{Rng, Server, TempTree, file_uri};
 
 const GRAPH: &str = "// Ventil für Öl 😀\ngraph Ventil <\n  in < Oben : BOOL; >\n  in_out < IM_Ab : BOOL msg in; >\n  state 0 < C: U Oben; >\n  state 1 \"Oben\" < >\n  trans any->0 < U INIT_SD; >\n  trans 0->1 prio 1 < U IM_Ab; !: R IM_Ab; >\n  trans 1->0 < U Oben; >\n>\n";
 const GROUP: &str = "group Anlage fc FC 1 db DB 1 <\n  instance V : Ventil < Oben := E 0.0; >\n>\n";
