@@ -24,6 +24,7 @@ mod host;
 pub mod ide;
 pub mod index;
 pub mod lang;
+pub mod lower;
 mod line_index;
 pub mod model;
 pub mod registry;
