@@ -242,8 +242,12 @@ pub fn flag_of(state: OpState) -> SfcFlag {
 pub fn command_target(state: OpState, command: Command) -> Option<OpState> {
     use OpState as S;
     match command {
-        Command::Start => matches!(state, S::Ready | S::Completed | S::Aborted).then_some(S::Starting),
-        Command::Hold => matches!(state, S::Starting | S::Active | S::Resuming).then_some(S::Holding),
+        Command::Start => {
+            matches!(state, S::Ready | S::Completed | S::Aborted).then_some(S::Starting)
+        }
+        Command::Hold => {
+            matches!(state, S::Starting | S::Active | S::Resuming).then_some(S::Holding)
+        }
         Command::Resume => match state {
             S::Held => Some(S::Resuming),
             S::HeldError => Some(S::ResumingError),
@@ -257,7 +261,9 @@ pub fn command_target(state: OpState, command: Command) -> Option<OpState> {
             S::Ready | S::Stopping | S::Stopped | S::Aborting | S::Aborted
         ))
         .then_some(S::Stopping),
-        Command::Reset => matches!(state, S::Completed | S::Aborted | S::Stopped).then_some(S::Ready),
+        Command::Reset => {
+            matches!(state, S::Completed | S::Aborted | S::Stopped).then_some(S::Ready)
+        }
         Command::Error => match state {
             S::Starting | S::Active | S::Holding | S::Held | S::Resuming => Some(S::Error),
             S::Completing => Some(S::ErrorCompleting),
@@ -429,7 +435,14 @@ impl<'a> Ctx<'a, '_> {
         self.exec(rt, stmts)
     }
 
-    fn fired(&mut self, seq: usize, kind: &'static str, name: Option<&str>, from: &[usize], to: &[usize]) {
+    fn fired(
+        &mut self,
+        seq: usize,
+        kind: &'static str,
+        name: Option<&str>,
+        from: &[usize],
+        to: &[usize],
+    ) {
         if let Some(rec) = self.rec.as_deref_mut() {
             let steps = &self.ch.sequencers[seq].steps;
             let names = |list: &[usize]| {
@@ -495,8 +508,15 @@ impl<'a> Ctx<'a, '_> {
             }
         }
         let end_active = rt.seqs[seq].steps[end].active;
-        let done = if end_active { rt.seqs[seq].end_phases } else { 0 };
-        for (k, p) in [Phase::Init, Phase::Run, Phase::Term].into_iter().enumerate() {
+        let done = if end_active {
+            rt.seqs[seq].end_phases
+        } else {
+            0
+        };
+        for (k, p) in [Phase::Init, Phase::Run, Phase::Term]
+            .into_iter()
+            .enumerate()
+        {
             if k >= usize::from(done) {
                 self.phase(rt, seq, end, p)?;
             }
@@ -679,7 +699,12 @@ impl<'a> Ctx<'a, '_> {
             let mut from: Vec<usize> = tr.from.iter().map(|&f| f as usize).collect();
             from.sort_unstable();
             from.dedup();
-            let to: Vec<usize> = tr.to.iter().map(|&t| t as usize).filter(|&t| t < n).collect();
+            let to: Vec<usize> = tr
+                .to
+                .iter()
+                .map(|&t| t as usize)
+                .filter(|&t| t < n)
+                .collect();
             let kind = match tr.kind {
                 ChartTransKind::Trans => "trans",
                 ChartTransKind::Jump => "jump",
@@ -774,7 +799,10 @@ impl<'a> Ctx<'a, '_> {
             let [_, _, _, _, t_l, t_d, t_sd, t_ds, t_sl] = t;
             let mem = &mut rt.actions[ai];
             mem.s = !i_r && (i_s || mem.s);
-            let l = i_l && !mem.l.eval(i_l, t_l, dt);
+            let l_ton = mem.l.eval(i_l, t_l, dt);
+            let l = i_l && !l_ton;
+            // every timer is evaluated every cycle (no short circuit): its memory of the
+            // previous input must follow
             let d = mem.d.eval(i_d, t_d, dt);
             let p = i_p && !mem.p_prev;
             mem.p_prev = i_p;
@@ -783,7 +811,8 @@ impl<'a> Ctx<'a, '_> {
             let ds_ton = mem.ds.eval(i_ds, t_ds, dt);
             mem.ds_rs = !i_r && (ds_ton || mem.ds_rs);
             mem.sl_rs = !i_r && (i_sl || mem.sl_rs);
-            let sl = mem.sl_rs && !mem.sl.eval(mem.sl_rs, t_sl, dt);
+            let sl_ton = mem.sl.eval(mem.sl_rs, t_sl, dt);
+            let sl = mem.sl_rs && !sl_ton;
             let x = i_n || mem.s || l || d || p || sd || mem.ds_rs || sl;
             self.m.write_value(&action.place, &Value::Bool(x))?;
             if let Some(rec) = self.rec.as_deref_mut() {
@@ -826,21 +855,17 @@ pub fn cycle(
         q.finished_now = false;
     }
     // 1. time (and the step errors of `run time_monitoring`)
-    if let Some(r) = rt.running {
-        if !r.pending_start {
-            for si in 0..rt.seqs[r.seq].steps.len() {
-                if !rt.seqs[r.seq].steps[si].active {
-                    continue;
-                }
-                rt.seqs[r.seq].steps[si].t += ctx.dt;
-                if ch.time_monitoring {
-                    if let Some(max) = &ch.sequencers[r.seq].steps[si].max {
-                        let max = time_ms(&ctx.eval(rt, max)?);
-                        let s = &mut rt.seqs[r.seq].steps[si];
-                        if s.t > max {
-                            s.error = true;
-                        }
-                    }
+    if let Some(r) = rt.running.filter(|r| !r.pending_start) {
+        for si in 0..rt.seqs[r.seq].steps.len() {
+            if !rt.seqs[r.seq].steps[si].active {
+                continue;
+            }
+            rt.seqs[r.seq].steps[si].t += ctx.dt;
+            if let (true, Some(max)) = (ch.time_monitoring, &ch.sequencers[r.seq].steps[si].max) {
+                let max = time_ms(&ctx.eval(rt, max)?);
+                let s = &mut rt.seqs[r.seq].steps[si];
+                if s.t > max {
+                    s.error = true;
                 }
             }
         }
@@ -881,7 +906,9 @@ pub fn cycle(
             break;
         }
         let next = match s {
-            OpState::Active => (rt.completed == Some(OpState::Active)).then_some(OpState::Completing),
+            OpState::Active => {
+                (rt.completed == Some(OpState::Active)).then_some(OpState::Completing)
+            }
             OpState::Completed => ch.cyclic.then_some(OpState::Starting),
             _ => match successor(s) {
                 Some(succ) => {

@@ -44,7 +44,12 @@ enum Work<'a> {
 }
 
 /// Evaluates an expression.
-pub fn eval(expr: &Expr, m: &mut Machine, program: &Program, env: &dyn Env) -> Result<Value, Fault> {
+pub fn eval(
+    expr: &Expr,
+    m: &mut Machine,
+    program: &Program,
+    env: &dyn Env,
+) -> Result<Value, Fault> {
     let mut work = vec![Work::Visit(expr)];
     let mut values: Vec<Value> = Vec::new();
     while let Some(item) = work.pop() {
@@ -215,7 +220,7 @@ pub fn s5time_from_ms(ms: i64) -> u16 {
             if digits > 999 {
                 digits = 999;
             }
-            let bcd = (digits / 100) << 8 | ((digits / 10) % 10) << 4 | digits % 10;
+            let bcd = ((digits / 100) << 8) | (((digits / 10) % 10) << 4) | (digits % 10);
             return ((code as u16) << 12) | bcd as u16;
         }
     }
