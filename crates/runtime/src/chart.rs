@@ -770,33 +770,31 @@ impl<'a> Ctx<'a, '_> {
         let ch: &'a Chart = self.ch;
         for (ai, action) in ch.actions.iter().enumerate() {
             let mut input = [false; 9];
-            // per qualifier: the association whose time counts (§4.6 "t =")
-            let mut timed: [Option<(usize, usize, usize, bool)>; 9] = [None; 9];
+            // the action's one time t (§4.6, as IEC's action control block has one T): that
+            // of the first timed association in text order whose step is active, else of the
+            // first timed association
+            let mut timed: Option<(&crate::program::Expr, bool)> = None;
             for &(seq, step, k) in rt.assoc.get(ai).map_or(&[][..], |v| &v[..]) {
                 let Some(a) = ch.sequencers[seq].steps[step].qualifiers.get(k) else {
                     continue;
                 };
                 let active = running == Some(seq) && rt.seqs[seq].steps[step].active;
-                let q = qi(a.qualifier);
-                input[q] |= active;
-                match timed[q] {
-                    None => timed[q] = Some((seq, step, k, active)),
-                    Some((.., false)) if active => timed[q] = Some((seq, step, k, true)),
-                    _ => {}
-                }
-            }
-            let mut t = [0i64; 9];
-            for q in 0..9 {
-                if let Some((seq, step, k, _)) = timed[q] {
-                    let a = &ch.sequencers[seq].steps[step].qualifiers[k];
-                    if let Some(e) = &a.time {
-                        t[q] = time_ms(&self.eval(rt, e)?).max(0);
+                input[qi(a.qualifier)] |= active;
+                if let Some(e) = &a.time {
+                    match timed {
+                        None => timed = Some((e, active)),
+                        Some((_, false)) if active => timed = Some((e, true)),
+                        _ => {}
                     }
                 }
             }
+            let t = match timed {
+                Some((e, _)) => time_ms(&self.eval(rt, e)?).max(0),
+                None => 0,
+            };
             let dt = self.dt;
             let [i_n, i_s, i_r, i_p, i_l, i_d, i_sd, i_ds, i_sl] = input;
-            let [_, _, _, _, t_l, t_d, t_sd, t_ds, t_sl] = t;
+            let (t_l, t_d, t_sd, t_ds, t_sl) = (t, t, t, t, t);
             let mem = &mut rt.actions[ai];
             mem.s = !i_r && (i_s || mem.s);
             let l_ton = mem.l.eval(i_l, t_l, dt);

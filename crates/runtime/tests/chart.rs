@@ -1159,3 +1159,108 @@ fn stored_actions_survive_an_abort_until_reset() {
 fn b_false() -> higraph_runtime::program::Expr {
     k(Value::Bool(false))
 }
+
+#[test]
+fn an_action_has_one_time_the_first_active_association_s() {
+    // S0: SD X, T#50MS; S1: L X, T#0MS. While S1 is active, t = 0 (S1's association is the
+    // first timed one whose step is active), so the stored SD delay ends at once.
+    let mut s = qualifier_chart(vec![(Qualifier::Sd, Some(50)), (Qualifier::L, Some(0))]);
+    let out = drive(&mut s, &[&[0], &[1], &[1], &[]]);
+    // cycle 1: S0, SD stored, t = 50: off. cycle 2: back to IDLE, t = 50, ET = 10: off.
+    // cycle 3: S1, t = 0: SD's delay is over (a time per qualifier would give ET = 20 < 50),
+    // and L with t = 0 is off. cycle 4: IDLE again, t = 50, ET = min(0 + 10, 50): off.
+    assert_eq!(out, [false, false, true, false]);
+}
+
+#[test]
+fn an_aborted_sequencer_is_a_candidate_again_from_the_next_cycle() {
+    let c = chart(
+        "C",
+        vec![],
+        vec![seq(
+            "S",
+            1,
+            vec![rd("M0.0", m(0, 0))],
+            vec![step("S1"), step("E")],
+            vec![trans("T", &[0], &[1], vec![b_false()])],
+        )],
+    );
+    let mut s = Sim::new(c, 10);
+    s.set(&m(0, 0), true);
+    s.command(Command::Start);
+    s.step();
+    assert_eq!(
+        s.state(),
+        OpState::Starting,
+        "a TRUE start condition holds Starting"
+    );
+    assert_eq!(s.rec.running.as_deref(), Some("S"));
+    s.command(Command::Hold);
+    s.step();
+    assert_eq!(s.state(), OpState::Holding);
+    assert_eq!(
+        s.fired()[0].1,
+        "abort",
+        "Starting -> Holding aborts, only Active suspends"
+    );
+    assert_eq!(s.rec.running, None, "no restart in the cycle of the abort");
+    assert_eq!(s.rec.suspended, None);
+    s.step();
+    assert_eq!(s.rec.running.as_deref(), Some("S"));
+    assert_eq!(s.fired()[0].1, "start");
+}
+
+#[test]
+fn a_join_waits_for_the_min_of_every_branch() {
+    // S1, parallel < A (min T#30MS) | B >, T2 (TRUE), E
+    let c = chart(
+        "C",
+        vec![],
+        vec![seq(
+            "RUN",
+            1,
+            vec![sfc(SfcFlag::Run)],
+            vec![step("S1"), step("A").min(30), step("B"), step("E")],
+            vec![
+                trans("T1", &[0], &[1, 2], vec![]),
+                trans("T2", &[1, 2], &[3], vec![]),
+            ],
+        )],
+    );
+    let mut s = Sim::new(c, 10);
+    s.command(Command::Start);
+    s.steps(2); // 2: A and B entered
+    assert_eq!(s.active_names(), ["RUN.A", "RUN.B"]);
+    s.steps(2); // 3, 4: T = 10, 20
+    assert_eq!(
+        s.active_names(),
+        ["RUN.A", "RUN.B"],
+        "B may not leave alone"
+    );
+    s.step(); // 5: T = 30
+    assert_eq!(s.active_names(), ["RUN.E"]);
+}
+
+#[test]
+fn equal_priority_does_not_displace() {
+    let mk = |name: &str, bit: u8| {
+        seq(
+            name,
+            1,
+            vec![sfc(SfcFlag::Run), rd("M0.x", m(0, bit))],
+            vec![step("X"), step("E")],
+            vec![trans("T", &[0], &[1], vec![b_false()])],
+        )
+    };
+    // FIRST comes first in the text, so it would win a tie, but the running one stays
+    let c = chart("C", vec![], vec![mk("FIRST", 0), mk("SECOND", 1)]);
+    let mut s = Sim::new(c, 10);
+    s.set(&m(0, 1), true);
+    s.command(Command::Start);
+    s.step();
+    assert_eq!(s.rec.running.as_deref(), Some("SECOND"));
+    s.set(&m(0, 0), true);
+    s.steps(2);
+    assert_eq!(s.rec.running.as_deref(), Some("SECOND"));
+    assert!(s.fired().is_empty());
+}
