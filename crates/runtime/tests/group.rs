@@ -73,7 +73,8 @@ fn e1_any_refiring_and_any_once() {
     b.group("O", opts(false, true, false), &[("I", g, wiring)]);
     let mut sim = Sim::new(b.build());
     // (sets before the cycle, P: s p Zaehler StateChange, O: the same)
-    let table: [(&[(&str, u32)], [u32; 4], [u32; 4]); 7] = [
+    type Row<'a> = (&'a [(&'a str, u32)], [u32; 4], [u32; 4]);
+    let table: [Row<'_>; 7] = [
         (&[("M 0.1", 1)], [0, 0, 0, 1], [0, 0, 0, 1]),
         (&[], [1, 0, 0, 1], [1, 0, 0, 1]),
         (&[("M 0.0", 1), ("M 0.2", 1)], [9, 1, 1, 1], [9, 1, 1, 1]),
@@ -1018,4 +1019,28 @@ fn permanent_parts_frame_the_turn() {
     );
     // 1, then X +10, E +100, C +1000, permanent C +5.
     check(&mut sim, "G", "I", &[("Order", 1116)]);
+}
+
+#[test]
+fn fresh_turn_skips_the_time_update() {
+    // Permanent `C-` runs after step 0, so it sees whether the times were counted down.
+    let graph = GraphB::new("Fresh", &[])
+        .state(0, "")
+        .permanent("C-: L WT_CurrValue; T MD 20;")
+        .trans("any->0 prio 1", "U INIT_SD;")
+        .build();
+    let mut b = ProgramB::new();
+    let g = b.graph(graph);
+    b.group("G", PLAIN, &[("I", g, &[])]);
+    let mut sim = Sim::new(b.build());
+    sim.set_var("G", "I", "WT_Valid", 1);
+    sim.set_var("G", "I", "WT_CurrValue", 30);
+    sim.step();
+    check_mem(&mut sim, &[("MD 20", 30)]);
+    // The initial entry loaded state 0's (absent) wait time.
+    check(&mut sim, "G", "I", &[("WT_Valid", 0), ("WT_CurrValue", 0)]);
+    sim.set_var("G", "I", "WT_Valid", 1);
+    sim.set_var("G", "I", "WT_CurrValue", 30);
+    sim.step();
+    check_mem(&mut sim, &[("MD 20", 20)]);
 }

@@ -116,6 +116,7 @@ fn instr(vars: &[VarInfo], stmt: &str) -> Instr {
         "+I" => OpCode::AddI,
         "-I" => OpCode::SubI,
         "==I" => OpCode::EqI,
+        ">=I" => OpCode::GeI,
         other => panic!("test STL: unknown operation {other:?}"),
     };
     Instr {
