@@ -30,7 +30,8 @@ pub struct GroupRt {
     /// Per graph id: state number → index in [`Graph::states`] + 1 (0: no such state). Only
     /// the graphs this group instantiates are filled; built by the first call.
     index: Vec<Vec<u32>>,
-    built: bool,
+    /// The group the lookup was built for.
+    built_for: Option<u32>,
 }
 
 impl GroupRt {
@@ -45,7 +46,7 @@ impl GroupRt {
             fresh: true,
             cycle_ms,
             index: Vec::new(),
-            built: false,
+            built_for: None,
         }
     }
 
@@ -59,7 +60,7 @@ impl GroupRt {
         }
     }
 
-    fn build_index(&mut self, program: &Program, group: &Group) {
+    fn build_index(&mut self, program: &Program, id: u32, group: &Group) {
         self.index = vec![Vec::new(); program.graphs.len()];
         for inst in &group.instances {
             let Some(graph) = program.graphs.get(inst.graph as usize) else {
@@ -79,7 +80,7 @@ impl GroupRt {
                 }
             }
         }
-        self.built = true;
+        self.built_for = Some(id);
     }
 }
 
@@ -104,8 +105,8 @@ pub fn call(
         .groups
         .get(group as usize)
         .ok_or_else(|| Fault::new(format!("no group {group} in the program")))?;
-    if !rt.built {
-        rt.build_index(program, g);
+    if rt.built_for != Some(group) {
+        rt.build_index(program, group, g);
     }
     // Step 1.
     m.begin_group_call();
@@ -251,8 +252,13 @@ impl<'g> Turn<'_, 'g> {
         }
         let graph = self.graph;
         let s = self.get(Predef::CurrentState)? as u16;
-        if let Some(rec) = self.rec.as_deref_mut() {
-            rec.state = s;
+        if self.rec.is_some() {
+            // Filled in again at the end; these stay when the turn faults.
+            let previous = self.get(Predef::PreviousState)? as u16;
+            if let Some(rec) = self.rec.as_deref_mut() {
+                rec.state = s;
+                rec.previous = previous;
+            }
         }
         // Step 0.
         self.set(Predef::StateChange, 0)?;

@@ -1044,3 +1044,31 @@ fn fresh_turn_skips_the_time_update() {
     sim.step();
     check_mem(&mut sim, &[("MD 20", 20)]);
 }
+
+#[test]
+fn a_fault_stops_the_call_and_keeps_the_partial_record() {
+    let graph = GraphB::new("Fault", &[("Go", Ty::Bool)])
+        .state(0, "")
+        .state(1, "E: SET; = M 5.0; E: L MW 70000;")
+        .permanent("C: SET; = M 5.1;")
+        .trans("any->0 prio 1", "U INIT_SD;")
+        .trans("0->1", "U Go;")
+        .build();
+    let mut b = ProgramB::new();
+    let g = b.graph(graph);
+    b.group("G", PLAIN, &[("I", g, &[("Go", "M 0.0")]), ("J", g, &[])]);
+    let mut sim = Sim::new(b.build());
+    sim.step();
+    sim.set("M 5.1", 0);
+    sim.set("M 0.0", 1);
+    let fault = sim.try_step().expect_err("access past byte 65535");
+    assert!(!fault.reason.is_empty());
+    // The change happened (CurrentState is written before `E`), the permanent `C` did not run,
+    // and J had no turn.
+    check(&mut sim, "G", "I", &[("CurrentState", 1)]);
+    check_mem(&mut sim, &[("M 5.0", 1), ("M 5.1", 0)]);
+    assert_eq!(sim.records.len(), 1);
+    let r = sim.rec("G", "I");
+    assert_eq!(r.parts, ["state 1 E"]);
+    assert_eq!((r.state, r.previous), (0, 0));
+}
