@@ -26,7 +26,8 @@ pub struct GroupRt {
     /// The next call is the first of the test or the first after `restart cold` (§2.8).
     pub fresh: bool,
     /// Δ in ms, subtracted from WT_/ST_CurrValue by every turn's time update (§2.6).
-    pub cycle_ms: u32,
+    /// `None`: the program's test's Δ (`Test::cycle_ms`), [`DEFAULT_CYCLE_MS`] without a test.
+    pub cycle_ms: Option<u32>,
     /// Per graph id: state number → index in [`Graph::states`] + 1 (0: no such state). Only
     /// the graphs this group instantiates are filled; built by the first call.
     index: Vec<Vec<u32>>,
@@ -35,18 +36,21 @@ pub struct GroupRt {
 }
 
 impl GroupRt {
-    /// A fresh group with Δ = [`DEFAULT_CYCLE_MS`].
+    /// A fresh group; Δ is the program's (its test's `cycle`, else [`DEFAULT_CYCLE_MS`]).
     pub fn new() -> GroupRt {
-        GroupRt::with_cycle_ms(DEFAULT_CYCLE_MS)
-    }
-
-    /// A fresh group with the test's Δ.
-    pub fn with_cycle_ms(cycle_ms: u32) -> GroupRt {
         GroupRt {
             fresh: true,
-            cycle_ms,
+            cycle_ms: None,
             index: Vec::new(),
             built_for: None,
+        }
+    }
+
+    /// A fresh group with an explicit Δ.
+    pub fn with_cycle_ms(cycle_ms: u32) -> GroupRt {
+        GroupRt {
+            cycle_ms: Some(cycle_ms),
+            ..GroupRt::new()
         }
     }
 
@@ -126,7 +130,12 @@ pub fn call(
     let ctx = Ctx {
         options: g.options,
         fresh,
-        dt: rt.cycle_ms,
+        dt: rt.cycle_ms.unwrap_or_else(|| {
+            program
+                .test
+                .as_ref()
+                .map_or(DEFAULT_CYCLE_MS, |t| t.cycle_ms)
+        }),
     };
     for inst in &g.instances {
         let graph = program.graphs.get(inst.graph as usize).ok_or_else(|| {
