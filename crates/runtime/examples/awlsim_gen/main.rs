@@ -478,7 +478,7 @@ fn gen_realarith(r: &mut Rng, code: &mut Vec<String>) {
                 // arguments near the interesting points of the functions
                 code.pop();
                 let x = *r.pick(&[
-                    0.5f32, -0.5, 0.9, -0.9, 1.5, 0.01, 2.0, 0.785, 3.14159, 20.0, -20.0, 88.0,
+                    0.5f32, -0.5, 0.9, -0.9, 1.5, 0.01, 2.0, 0.785, 3.25, 20.0, -20.0, 88.0,
                     89.0, -104.0,
                 ]);
                 code.push(format!("L {}", real_text(x)));
@@ -667,6 +667,8 @@ fn is_sub(x: f64) -> bool {
 
 /// The comparison mode of `ins` run on machine state `m` (before it): a known deviation of
 /// §9.2 (or one found by this suite, listed in the report) ends the comparison of the block.
+// Each branch names a different deviation, though several give the same mode.
+#[allow(clippy::if_same_then_else)]
 fn mode(ins: &Instr, m: &Machine, timers: &mut [(bool, bool); 4]) -> u8 {
     use OpCode::*;
     let (a, b) = (f(m.accu2) as f64, f(m.accu1) as f64);
