@@ -13,9 +13,11 @@ floating-point seconds Awlsim adds up. Cases our interpreter ends with a fault r
 must raise an Awlsim error at the same instruction.
 
 Comparison modes per instruction (set by the generator): 0 exact; 1 ACCU1 compared as
-"is NaN" when ours is NaN; 2 a deviation of §9.2 (or one listed in the report) happens here:
-the rest of the case is not compared; 3 `L T`/`LC T`: one base unit apart is equal;
-4 REAL function results within 2 ulp.
+"is NaN" when ours is NaN; 2 a deviation of §9.2 (or one listed in the report) that changes
+hidden state happens here: the rest of the case is not compared; 3 `L T`/`LC T`: one base unit
+apart is equal; 4 REAL function results within 2 ulp; 6 a known deviation in the registers
+only: memory is compared, Awlsim takes our ACCU1, ACCU2 and status word, and the comparison
+goes on. A tolerated difference never carries on: Awlsim's accumulators take our values.
 
 Exit status 0 when everything agrees; 1 with the first difference printed.
 """
@@ -101,6 +103,7 @@ class Runner:
         self.stopped = set()
         self.compared = 0
         self.excluded = 0
+        self.excluded_insns = 0
         self.last_ip = -1
 
     def _update_timestamp(self, *args):
@@ -186,8 +189,18 @@ class Runner:
             self.excluded += 1
             return
         cpu = self.cpu
-        g1, g2, gsw = cpu.accu1.get(), cpu.accu2.get(), cpu.statusWord.getWord()
         gbytes = "".join("%02x" % self.area(a)[b] for a, b in c["touched"])
+        if mode == 6:
+            # a known register-only difference: Awlsim takes our registers
+            self.excluded_insns += 1
+            if gbytes != hexbytes:
+                g = (cpu.accu1.get(), cpu.accu2.get(), cpu.statusWord.getWord(), gbytes)
+                raise Mismatch(self.describe(c, ii, (a1, a2, sw, hexbytes), g))
+            cpu.accu1.set(a1)
+            cpu.accu2.set(a2)
+            cpu.statusWord.setWord(sw)
+            return
+        g1, g2, gsw = cpu.accu1.get(), cpu.accu2.get(), cpu.statusWord.getWord()
         ok1 = g1 == a1 or (a1 == 0xFFFFFFFF and is_nan(g1))
         ok2 = g2 == a2 or (a2 == 0xFFFFFFFF and is_nan(g2))
         if not ok1 and mode == 1 and is_nan(a1):
@@ -235,12 +248,24 @@ class Runner:
             out.append("    %s%s" % (line, "   <--" if n == ii else ""))
         return "\n".join(out)
 
+    def failing_mode(self):
+        """The comparison mode of the instruction that raised an error."""
+        ip = self.last_ip + 1
+        if ip >= len(self.ipmap) or self.ipmap[ip][1] < 0:
+            return None
+        ci, ii = self.ipmap[ip]
+        cycles = self.cases[ci]["cycles"]
+        if self.cycle >= len(cycles) or ii >= len(cycles[self.cycle]["snaps"]):
+            return None
+        return cycles[self.cycle]["snaps"][ii][4]
+
     def run(self):
         ncycles = max(len(c["stim"]) for c in self.cases)
         for k in range(ncycles):
             self.cycle = k
             self.now = T0 + (k + 1) * 0.01 + (k + 1) * 1e-9
             self.current = None
+            self.last_ip = -1
             self.sim.runCycle()
 
 
@@ -249,8 +274,9 @@ def swtext(b):
     return " ".join("%s=%d" % (n, (b >> i) & 1) for i, n in enumerate(names))
 
 
-def run_fault_case(c):
-    """Our interpreter faulted: Awlsim must raise an error at the same instruction."""
+def run_alone(c):
+    """A case run on its own: our interpreter faulted (Awlsim must raise an error at the same
+    instruction), or a deviation after which Awlsim may raise one."""
     f = c["fault"]
     r = Runner([c])
     try:
@@ -258,17 +284,23 @@ def run_fault_case(c):
     except Mismatch:
         raise
     except Exception as e:  # AwlSimError and friends
+        if 0 in r.stopped or r.failing_mode() == 2:
+            r.excluded += 1
+            return r
+        if f is None:
+            raise Mismatch("case %s: Awlsim fails (%s), we do not\n  %s"
+                           % (c["id"], e, "\n  ".join(c["code"])))
         if r.cycle != f["cycle"]:
             raise Mismatch("case %s: Awlsim failed in cycle %d, we in cycle %d (%s / %s)"
                            % (c["id"], r.cycle + 1, f["cycle"] + 1, e, f["reason"]))
         # the faulting instruction is the one after the last one that completed
         failed = r.last_ip + 1
         want = f["instr"] + 1  # +1 for the SET/CLR
-        if failed != want and c["id"] not in r.stopped:
+        if failed != want:
             raise Mismatch("case %s: Awlsim failed at instruction %d, we at %d (%s / %s)\n  %s"
                            % (c["id"], failed, want, e, f["reason"], "\n  ".join(c["code"])))
         return r
-    if c["id"] in r.stopped or 0 in r.stopped:
+    if f is None or 0 in r.stopped:
         return r
     raise Mismatch("case %s: we fault (%s) at cycle %d instruction %d, Awlsim does not\n  %s"
                    % (c["id"], f["reason"], f["cycle"] + 1, f["instr"] + 1,
@@ -292,12 +324,12 @@ def main():
         return run_bench(bench)
     families = {}
     pending = []
-    compared = excluded = 0
+    compared = excluded = freed = 0
     cases_total = 0
     start = time.time()
 
     def flush(group):
-        nonlocal compared, excluded
+        nonlocal compared, excluded, freed
         if not group:
             return
         try:
@@ -320,6 +352,7 @@ def main():
                            % (c["id"], ii + 1, e, "\n  ".join(c["code"])))
         compared += r.compared
         excluded += r.excluded
+        freed += r.excluded_insns
 
     try:
         with open(path) as fh:
@@ -327,10 +360,11 @@ def main():
                 c = json.loads(line)
                 cases_total += 1
                 families[c["family"]] = families.get(c["family"], 0) + 1
-                if c["fault"] is not None:
-                    r = run_fault_case(c)
+                if c["fault"] is not None or c.get("isolate"):
+                    r = run_alone(c)
                     compared += r.compared
                     excluded += r.excluded
+                    freed += r.excluded_insns
                     continue
                 # cases of one batch must agree on the number of cycles
                 if pending and len(pending[0]["stim"]) != len(c["stim"]):
@@ -345,10 +379,10 @@ def main():
         print(str(m))
         print("awlsim-diff: FAILED after %d cases" % cases_total)
         return 1
-    print("awlsim-diff: %d cases agree (%s); %d instruction states compared, "
-          "%d cases cut short by a known deviation; %.1f s"
+    print("awlsim-diff: %d cases agree (%s); %d instruction states compared, %d with a "
+          "known register deviation, %d cases cut short by a known deviation; %.1f s"
           % (cases_total, ", ".join("%s %d" % kv for kv in sorted(families.items())),
-             compared, excluded, time.time() - start))
+             compared, freed, excluded, time.time() - start))
     return 0
 
 
@@ -371,13 +405,13 @@ def run_bench(path):
     sim.load(parser.getParseTree())
     sim.build()
     sim.startup()
-    n = 3000
-    t = time.time()
+    n = 20000
+    t = time.process_time()
     for _ in range(n):
         sim.runCycle()
-    s = time.time() - t
+    s = time.process_time() - t
     total = n * (len(code) + 1)
-    print('{"instructions": %d, "seconds": %.4f, "per_second": %.0f}' % (total, s, total / s))
+    print('{"instructions": %d, "cpu_seconds": %.4f, "per_second": %.0f}' % (total, s, total / s))
     return 0
 
 
