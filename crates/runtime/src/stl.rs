@@ -48,17 +48,86 @@ pub fn run_block_with<O: Observer>(
     m.status.or = false;
     m.status.fc = false;
     let mut nest = Nest::default();
+    // In the RLO-0 pass, timer and counter operations execute "exactly as they would with
+    // RLO = 1 at block start" (§3.1): until an operation makes the RLO independent of the
+    // block's start value (a first check, SET, CLR, a comparison, a call), they see the RLO
+    // the normal pass would have, which is the negation of this pass's.
+    let mut shadowed = rlo0;
     for (i, ins) in block.code.iter().enumerate() {
         obs.before(i, ins, m);
-        if let Err(mut f) = exec(m, binding, ins, &mut nest) {
+        let flip = shadowed && is_timer_or_counter_op(binding, ins);
+        if flip {
+            m.status.rlo = !m.status.rlo;
+        }
+        let result = exec(m, binding, ins, &mut nest);
+        if flip {
+            m.status.rlo = !m.status.rlo;
+        }
+        if let Err(mut f) = result {
             if f.origin == crate::program::Origin::NONE {
                 f.origin = ins.origin;
             }
             return Err(f);
         }
+        if shadowed && replaces_rlo(ins.op) {
+            shadowed = false;
+        }
         obs.after(i, ins, m);
     }
     Ok(m.status.rlo)
+}
+
+/// Does the instruction operate a timer or counter with the RLO as its input?
+fn is_timer_or_counter_op(binding: &[Place], ins: &Instr) -> bool {
+    use OpCode::*;
+    match ins.op {
+        Si | Sv | Se | Ss | Sa | Fr | Zv | Zr => true,
+        S | R => matches!(
+            place(binding, &ins.operand),
+            Ok(Place::Timer(_) | Place::Counter(_))
+        ),
+        _ => false,
+    }
+}
+
+/// Does the instruction leave an RLO that no longer depends on the RLO before it (so both
+/// passes agree from here on)? NOT, `=`, S, R, `O` and the non-logic operations keep the
+/// difference; FP and FN are counted as ending it (their edge memories differ anyway).
+fn replaces_rlo(op: OpCode) -> bool {
+    use OpCode::*;
+    matches!(
+        op,
+        U | Un
+            | O
+            | On
+            | X
+            | Xn
+            | Close
+            | Set
+            | Clr
+            | Fp
+            | Fn
+            | EqI
+            | NeI
+            | GtI
+            | LtI
+            | GeI
+            | LeI
+            | EqD
+            | NeD
+            | GtD
+            | LtD
+            | GeD
+            | LeD
+            | EqR
+            | NeR
+            | GtR
+            | LtR
+            | GeR
+            | LeR
+            | Call
+            | Cc
+    )
 }
 
 /// The nesting stack: per entry the opening kind, RLO, OR and /FC.

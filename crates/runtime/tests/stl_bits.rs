@@ -360,3 +360,42 @@ fn load_timer_value() {
     assert_eq!(x.accu1, 0);
     assert!(x.status.rlo);
 }
+
+#[test]
+fn timers_and_counters_in_the_rlo0_pass_see_the_normal_passes_rlo() {
+    // runtime.md §3.1: in the RLO-0 pass, timer and counter operations execute exactly as they
+    // would with RLO = 1 at block start; after a first check both passes agree.
+    use higraph_runtime::program::{CounterId, Place, TimerId};
+    let mut x = machine();
+    x.now_ms = 10;
+    let start = block(vec![
+        i(L, imm(Const::S5Time(50))),
+        i(Se, t(1)),
+        i(Assign, m(2, 0)),
+        i(
+            Zv,
+            higraph_runtime::program::Operand::Place(Place::Counter(CounterId(2))),
+        ),
+    ]);
+    assert!(!higraph_runtime::stl::run_block(&mut x, &[], &start, true).unwrap());
+    assert!(!bit(&mut x, 2, 0), "= still resets");
+    x.now_ms = 60;
+    assert_eq!(x.read(&Place::Timer(TimerId(1))).unwrap(), 1, "SE started");
+    assert_eq!(
+        x.read(&Place::Counter(CounterId(2))).unwrap(),
+        1,
+        "ZV counted"
+    );
+    // After a first check the pass's own RLO counts: U of a 0 bit stops the timer.
+    let stop = block(vec![
+        i(U, m(3, 0)),
+        i(L, imm(Const::S5Time(50))),
+        i(Se, t(1)),
+    ]);
+    higraph_runtime::stl::run_block(&mut x, &[], &stop, true).unwrap();
+    assert_eq!(
+        x.read(&Place::Timer(TimerId(1))).unwrap(),
+        0,
+        "SE with RLO 0 resets"
+    );
+}
