@@ -240,7 +240,10 @@ impl<'a> Lowerer<'a> {
         }
         // Second pass: the actuals.
         let mut ctx = Ctx::for_item(self.db, self.ws, loc);
-        let own: Vec<Vec<Place>> = instances.iter().map(|(_, i, _)| i.binding.clone()).collect();
+        let own: Vec<Vec<Place>> = instances
+            .iter()
+            .map(|(_, i, _)| i.binding.clone())
+            .collect();
         let graph_ids: Vec<u32> = instances.iter().map(|(_, i, _)| i.graph).collect();
         let mut internal: Vec<InternalMessage> = Vec::new();
         let mut internal_cells = std::collections::HashSet::new();
@@ -273,7 +276,9 @@ impl<'a> Lowerer<'a> {
                         let message = target.message().map(|m| m.text());
                         receiver.zip(message).and_then(|(r, msg)| {
                             let receiver_graph = graph_ids[r] as usize;
-                            let msg_var = *self.graph_meta[receiver_graph].vars.get(&index::key(&msg))?;
+                            let msg_var = *self.graph_meta[receiver_graph]
+                                .vars
+                                .get(&index::key(&msg))?;
                             let place = own[r].get(msg_var as usize)?.clone();
                             if let Place::Cell(cell) = place
                                 && self.program.graphs[receiver_graph].vars[msg_var as usize].msg_in
@@ -292,9 +297,7 @@ impl<'a> Lowerer<'a> {
                     other => match actuals::resolve(&mut ctx, other) {
                         ActualValue::Symbol(s) => s.address.as_ref().and_then(values::place),
                         ActualValue::Address(a) => values::place(&a),
-                        ActualValue::Constant(lit) => {
-                            values::value_in(&lit, ty).map(Place::Const)
-                        }
+                        ActualValue::Constant(lit) => values::value_in(&lit, ty).map(Place::Const),
                         ActualValue::Message | ActualValue::Unknown => None,
                     },
                 };
@@ -333,10 +336,7 @@ impl<'a> Lowerer<'a> {
         self.group_meta.push(GroupMeta {
             file,
             item,
-            instances: metas
-                .into_iter()
-                .filter(|m| m.graph.is_some())
-                .collect(),
+            instances: metas.into_iter().filter(|m| m.graph.is_some()).collect(),
         });
         Some((self.program.groups.len() - 1) as u32)
     }
@@ -391,7 +391,6 @@ impl<'a> Lowerer<'a> {
             .get(var as usize)
     }
 }
-
 
 /// A readable dump of a lowered program (for snapshots and debugging): one line per cell,
 /// graph variable, state, transition and instruction.

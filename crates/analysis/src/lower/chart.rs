@@ -92,7 +92,13 @@ impl ChartLowering<'_, '_> {
 
     /// Resolves a path: its kind and type (`None` when unknown, e.g. an external reference).
     fn path(&mut self, path: &ast::Path, hint: Option<Ty>) -> Option<Path> {
-        let target = operands::resolve(&mut self.ctx, &mut self.scope, path, Unresolved::Operand, false);
+        let target = operands::resolve(
+            &mut self.ctx,
+            &mut self.scope,
+            path,
+            Unresolved::Operand,
+            false,
+        );
         self.ctx.out.diags.clear();
         let text = compact(path.syntax());
         let (kind, ty) = match target {
@@ -144,8 +150,13 @@ impl ChartLowering<'_, '_> {
                 }
             }
             ast::Expr::Path(path) => {
-                let target =
-                    operands::resolve(&mut self.ctx, &mut self.scope, path, Unresolved::Operand, false);
+                let target = operands::resolve(
+                    &mut self.ctx,
+                    &mut self.scope,
+                    path,
+                    Unresolved::Operand,
+                    false,
+                );
                 self.ctx.out.diags.clear();
                 match target {
                     Target::Var(i) => self.var_cells.get(i).map(|c| c.1),
@@ -219,17 +230,26 @@ impl ChartLowering<'_, '_> {
     /// `path := expr;` statements of a node's body.
     fn statements(&mut self, node: &higraph_syntax::SyntaxNode) -> Vec<Stmt> {
         let mut out = Vec::new();
-        for assignment in crate::rules::chart::body_children(node).filter_map(ast::Assignment::cast) {
-            let Some(target) = assignment.target() else { continue };
-            let Some(value) = assignment.value() else { continue };
+        for assignment in crate::rules::chart::body_children(node).filter_map(ast::Assignment::cast)
+        {
+            let Some(target) = assignment.target() else {
+                continue;
+            };
+            let Some(value) = assignment.value() else {
+                continue;
+            };
             let hint = self.static_ty(&value);
-            let Some(path) = self.path(&target, hint) else { continue };
+            let Some(path) = self.path(&target, hint) else {
+                continue;
+            };
             let place = match path.kind {
                 PathKind::Place(place) => place,
                 // Writes to `SFC.` paths are ignored.
                 _ => Place::Const(Value::Bool(false)),
             };
-            let Some(value) = self.expr(&value, Some(path.ty)) else { continue };
+            let Some(value) = self.expr(&value, Some(path.ty)) else {
+                continue;
+            };
             let origin = self.origin(crate::rules::chart::without_semi(assignment.syntax()));
             out.push(Stmt {
                 target: place,
@@ -301,7 +321,9 @@ impl Lowerer<'_> {
         let mut decl_nodes: HashMap<String, ast::VarDecl> = HashMap::new();
         for (_, decl) in crate::rules::decls::declarations(chart.var_sections()) {
             if let Some(n) = decl.name() {
-                decl_nodes.entry(crate::index::key(&n.text())).or_insert(decl);
+                decl_nodes
+                    .entry(crate::index::key(&n.text()))
+                    .or_insert(decl);
             }
         }
         let mut var_cells = Vec::with_capacity(vars.len());
@@ -436,7 +458,10 @@ impl ChartLowering<'_, '_> {
         for (id, elem) in tree.elems.iter().enumerate() {
             match &elem.node {
                 ast::SeqElement::Step(step) if step_of.contains_key(&id) => {
-                    names.push((elem.label().to_owned(), elem.name_range.unwrap_or(elem.header)));
+                    names.push((
+                        elem.label().to_owned(),
+                        elem.name_range.unwrap_or(elem.header),
+                    ));
                     let lowered = self.step(step, elem.label(), elem.header, actions);
                     steps.push(lowered);
                 }
@@ -550,7 +575,9 @@ impl ChartLowering<'_, '_> {
         for item in crate::rules::chart::body_children(step.syntax()) {
             match item.kind() {
                 SyntaxKind::STEP_PHASE => {
-                    let Some(phase) = ast::StepPhase::cast(item) else { continue };
+                    let Some(phase) = ast::StepPhase::cast(item) else {
+                        continue;
+                    };
                     let kind = phase.keyword().map(|k| k.kind());
                     let stmts = self.statements(phase.syntax());
                     match kind {
@@ -561,15 +588,23 @@ impl ChartLowering<'_, '_> {
                     }
                 }
                 SyntaxKind::QUALIFIER_ACTION => {
-                    let Some(action) = ast::QualifierAction::cast(item) else { continue };
+                    let Some(action) = ast::QualifierAction::cast(item) else {
+                        continue;
+                    };
                     let Some(q) = action.qualifier().and_then(|q| qualifier(q.text())) else {
                         continue;
                     };
                     let mut operands = action.operands();
-                    let Some(ast::Operand::Path(path)) = operands.next() else { continue };
+                    let Some(ast::Operand::Path(path)) = operands.next() else {
+                        continue;
+                    };
                     let time = operands.next().and_then(|t| self.time(&t));
-                    let Some(lowered) = self.path(&path, Some(Ty::Bool)) else { continue };
-                    let PathKind::Place(place) = lowered.kind else { continue };
+                    let Some(lowered) = self.path(&path, Some(Ty::Bool)) else {
+                        continue;
+                    };
+                    let PathKind::Place(place) = lowered.kind else {
+                        continue;
+                    };
                     let index = match actions.iter().position(|a| a.place == place) {
                         Some(i) => i,
                         None => {
@@ -587,8 +622,12 @@ impl ChartLowering<'_, '_> {
                     });
                 }
                 SyntaxKind::STEP_TIME => {
-                    let Some(time) = ast::StepTime::cast(item) else { continue };
-                    let is_min = time.keyword().is_some_and(|k| k.kind() == SyntaxKind::MIN_KW);
+                    let Some(time) = ast::StepTime::cast(item) else {
+                        continue;
+                    };
+                    let is_min = time
+                        .keyword()
+                        .is_some_and(|k| k.kind() == SyntaxKind::MIN_KW);
                     let value = time.value().and_then(|v| self.time(&v));
                     let slot = if is_min { &mut out.min } else { &mut out.max };
                     if slot.is_none() {
@@ -635,7 +674,10 @@ fn predecessors(tree: &Tree, trans: usize, step_of: &HashMap<usize, StepIdx>) ->
             Some(unit) => {
                 let mut steps = Vec::new();
                 last_steps(tree, unit, &mut steps);
-                return steps.iter().filter_map(|s| step_of.get(s).copied()).collect();
+                return steps
+                    .iter()
+                    .filter_map(|s| step_of.get(s).copied())
+                    .collect();
             }
             None => match list.owner {
                 Some(owner) if tree.elems[owner].kind == Kind::Alt => current = owner,

@@ -20,7 +20,11 @@ fn place(p: &Place) -> String {
             };
             match width {
                 Width::Bit(b) => {
-                    let area = if area.ends_with(".DB") { format!("{area}X") } else { area };
+                    let area = if area.ends_with(".DB") {
+                        format!("{area}X")
+                    } else {
+                        area
+                    };
                     format!("{area} {byte}.{b}")
                 }
                 Width::Byte => format!("{area}B {byte}"),
@@ -130,7 +134,11 @@ fn trans(out: &mut String, t: &Trans) {
         higraph_runtime::program::Target::Return => "return".to_owned(),
     };
     let mut flags = String::new();
-    for (on, word) in [(t.auto, " auto"), (t.manual, " manual"), (t.waits, " waits")] {
+    for (on, word) in [
+        (t.auto, " auto"),
+        (t.manual, " manual"),
+        (t.waits, " waits"),
+    ] {
         if on {
             flags.push_str(word);
         }
@@ -166,7 +174,11 @@ pub(crate) fn program(p: &Program) -> String {
                 Some(false) => " msg out",
                 None => "",
             };
-            let init = var.init.as_ref().map(|v| format!(" := {v:?}")).unwrap_or_default();
+            let init = var
+                .init
+                .as_ref()
+                .map(|v| format!(" := {v:?}"))
+                .unwrap_or_default();
             let _ = writeln!(out, "  var{v} {} : {}{msg}{init}", var.name, var.ty);
         }
         for b in &g.permanent_pre {
@@ -183,12 +195,20 @@ pub(crate) fn program(p: &Program) -> String {
                 out,
                 "  state {}{}{} wait {} supervise {}",
                 s.number,
-                s.name.as_ref().map(|n| format!(" \"{n}\"")).unwrap_or_default(),
+                s.name
+                    .as_ref()
+                    .map(|n| format!(" \"{n}\""))
+                    .unwrap_or_default(),
                 if s.reports { " reports" } else { "" },
                 time(&s.wait),
                 time(&s.supervise)
             );
-            for (label, blocks) in [("E", &s.entry), ("C-", &s.pre), ("C", &s.cyclic), ("X", &s.exit)] {
+            for (label, blocks) in [
+                ("E", &s.entry),
+                ("C-", &s.pre),
+                ("C", &s.cyclic),
+                ("X", &s.exit),
+            ] {
                 for b in blocks {
                     block(&mut out, "    ", label, b);
                 }
@@ -253,7 +273,11 @@ pub(crate) fn program(p: &Program) -> String {
                     .qualifiers
                     .iter()
                     .map(|q| {
-                        let t = q.time.as_ref().map(|t| format!(", {}", expr(t))).unwrap_or_default();
+                        let t = q
+                            .time
+                            .as_ref()
+                            .map(|t| format!(", {}", expr(t)))
+                            .unwrap_or_default();
                         format!("{:?} action{}{t}", q.qualifier, q.action)
                     })
                     .collect();
@@ -262,9 +286,19 @@ pub(crate) fn program(p: &Program) -> String {
                     "    step{i} {} candidates {:?}{}{}{}{}",
                     st.name,
                     st.candidates,
-                    if quals.is_empty() { String::new() } else { format!(" [{}]", quals.join("; ")) },
-                    st.min.as_ref().map(|m| format!(" min {}", expr(m))).unwrap_or_default(),
-                    st.max.as_ref().map(|m| format!(" max {}", expr(m))).unwrap_or_default(),
+                    if quals.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" [{}]", quals.join("; "))
+                    },
+                    st.min
+                        .as_ref()
+                        .map(|m| format!(" min {}", expr(m)))
+                        .unwrap_or_default(),
+                    st.max
+                        .as_ref()
+                        .map(|m| format!(" max {}", expr(m)))
+                        .unwrap_or_default(),
                     if st.confirm { " confirm" } else { "" }
                 );
                 stmts(&mut out, "      ", "init", &st.init);
@@ -290,10 +324,18 @@ pub(crate) fn program(p: &Program) -> String {
     }
     if let Some(t) = &p.test {
         let run: Vec<String> = t.run.iter().map(|r| format!("{r:?}")).collect();
-        let _ = writeln!(out, "test {} cycle {}ms run [{}]", t.name, t.cycle_ms, run.join(", "));
+        let _ = writeln!(
+            out,
+            "test {} cycle {}ms run [{}]",
+            t.name,
+            t.cycle_ms,
+            run.join(", ")
+        );
         for s in &t.stmts {
             let line = match &s.kind {
-                TestStmtKind::Set { target, value } => format!("set {} := {}", path(target), expr(value)),
+                TestStmtKind::Set { target, value } => {
+                    format!("set {} := {}", path(target), expr(value))
+                }
                 TestStmtKind::Step { cycles } => format!("step {cycles}"),
                 TestStmtKind::Until {
                     cond,
@@ -301,18 +343,25 @@ pub(crate) fn program(p: &Program) -> String {
                     within,
                     message,
                     ..
-                } => format!("until {} within {within} ({cycles} cycles) {message:?}", expr(cond)),
+                } => format!(
+                    "until {} within {within} ({cycles} cycles) {message:?}",
+                    expr(cond)
+                ),
                 TestStmtKind::Expect { cond, message, .. } => {
                     format!("expect {} {message:?}", expr(cond))
                 }
-                TestStmtKind::Command { chart, command } => format!("command chart{chart} {command:?}"),
+                TestStmtKind::Command { chart, command } => {
+                    format!("command chart{chart} {command:?}")
+                }
                 TestStmtKind::Confirm {
                     chart,
                     sequencer,
                     step,
                     text,
                 } => format!("confirm chart{chart}.seq{sequencer}.step{step} ({text})"),
-                TestStmtKind::Restart { cold } => format!("restart {}", if *cold { "cold" } else { "warm" }),
+                TestStmtKind::Restart { cold } => {
+                    format!("restart {}", if *cold { "cold" } else { "warm" })
+                }
             };
             let _ = writeln!(out, "  {line}");
         }

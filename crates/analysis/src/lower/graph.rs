@@ -227,9 +227,10 @@ impl GraphLowering<'_, '_> {
                     .map_or(Operand::None, Operand::Place),
                 None,
             ),
-            Some(RTarget::Address(a)) => {
-                (values::place(&a).map_or(Operand::None, Operand::Place), None)
-            }
+            Some(RTarget::Address(a)) => (
+                values::place(&a).map_or(Operand::None, Operand::Place),
+                None,
+            ),
             Some(RTarget::Constant(lit)) => match values::constant(&lit) {
                 Some(c) => (c.imm(), Some(c)),
                 None => (Operand::None, None),
@@ -412,10 +413,11 @@ impl GraphLowering<'_, '_> {
         for member in graph.members() {
             match member {
                 ast::GraphMember::State(state) => {
-                    let Some(number) = state
-                        .number()
-                        .and_then(|n| crate::rules::graph::number_key(n.text()).parse::<u16>().ok())
-                    else {
+                    let Some(number) = state.number().and_then(|n| {
+                        crate::rules::graph::number_key(n.text())
+                            .parse::<u16>()
+                            .ok()
+                    }) else {
                         continue;
                     };
                     if !seen.insert(number) {
@@ -505,8 +507,9 @@ impl GraphLowering<'_, '_> {
 
     fn state(&mut self, state: &ast::State, number: u16) -> State {
         let reports = state.attributes().any(|a| {
-            a.keyword()
-                .is_some_and(|k| matches!(k.text().to_ascii_lowercase().as_str(), "fault" | "message"))
+            a.keyword().is_some_and(|k| {
+                matches!(k.text().to_ascii_lowercase().as_str(), "fault" | "message")
+            })
         });
         let mut out = State {
             number,
@@ -551,11 +554,18 @@ impl GraphLowering<'_, '_> {
         out
     }
 
-    fn transition(&mut self, trans: &ast::Trans, from: Option<u16>, to: Target, prio: u32) -> Trans {
+    fn transition(
+        &mut self,
+        trans: &ast::Trans,
+        from: Option<u16>,
+        to: Target,
+        prio: u32,
+    ) -> Trans {
         let has = |word: &str| {
-            trans
-                .attributes()
-                .any(|a| a.keyword().is_some_and(|k| k.text().eq_ignore_ascii_case(word)))
+            trans.attributes().any(|a| {
+                a.keyword()
+                    .is_some_and(|k| k.text().eq_ignore_ascii_case(word))
+            })
         };
         let range = trans
             .source()

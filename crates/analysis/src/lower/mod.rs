@@ -54,7 +54,9 @@ impl Analysis {
             for (kind, file, item) in lw.default_run() {
                 match kind {
                     ItemKind::Group => run.extend(lw.group(file, item).map(RunEntry::Group)),
-                    ItemKind::Chart => run.extend(lw.chart(file, item).map(|(c, _)| RunEntry::Chart(c))),
+                    ItemKind::Chart => {
+                        run.extend(lw.chart(file, item).map(|(c, _)| RunEntry::Chart(c)))
+                    }
                     _ => {}
                 }
             }

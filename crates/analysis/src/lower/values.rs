@@ -104,16 +104,16 @@ pub(crate) fn constant(lit: &Literal) -> Option<Const> {
         },
         LiteralValue::Real(r) => Const::Real(*r),
         LiteralValue::Bits { value, .. } => Const::Bits(*value),
-        LiteralValue::Tuple(bytes) => Const::Bits(
-            bytes
-                .iter()
-                .fold(0u64, |acc, b| (acc << 8) | u64::from(*b)),
-        ),
+        LiteralValue::Tuple(bytes) => {
+            Const::Bits(bytes.iter().fold(0u64, |acc, b| (acc << 8) | u64::from(*b)))
+        }
         LiteralValue::Duration { millis } => match lit.class {
             LiteralClass::S5Time => Const::S5Time(*millis),
             _ => Const::Time(*millis),
         },
-        LiteralValue::Date { year, month, day } => Const::Date(days_since_1990(*year, *month, *day)),
+        LiteralValue::Date { year, month, day } => {
+            Const::Date(days_since_1990(*year, *month, *day))
+        }
         LiteralValue::TimeOfDay { millis } => Const::TimeOfDay(*millis),
         LiteralValue::Char(c) => Const::Chars(vec![u8::try_from(u32::from(*c)).unwrap_or(b'?')]),
         LiteralValue::Str(s) => Const::Chars(s.bytes().take(4).collect()),
@@ -159,9 +159,7 @@ pub(crate) fn value_in(lit: &Literal, ty: Ty) -> Option<Value> {
         (Ty::Real, LiteralValue::Real(r)) => Value::Real(*r as f32),
         (Ty::Byte | Ty::Word | Ty::Dword, _) => Value::from_bits(ty, bits()?)?,
         (Ty::S5Time, _) => Value::S5Time(bits()? as u16),
-        (Ty::Time, LiteralValue::Duration { millis }) => {
-            Value::Time(i32::try_from(*millis).ok()?)
-        }
+        (Ty::Time, LiteralValue::Duration { millis }) => Value::Time(i32::try_from(*millis).ok()?),
         (Ty::Date, LiteralValue::Date { year, month, day }) => {
             Value::Date(u16::try_from(days_since_1990(*year, *month, *day)).ok()?)
         }
@@ -203,8 +201,7 @@ pub(crate) fn adapted_ty(lit: &Literal, other: Option<Ty>) -> Option<Ty> {
 
 /// Days from 1990-01-01 to a date (negative before it).
 pub(crate) fn days_since_1990(year: u16, month: u8, day: u8) -> i64 {
-    days_from_civil(i64::from(year), i64::from(month), i64::from(day))
-        - days_from_civil(1990, 1, 1)
+    days_from_civil(i64::from(year), i64::from(month), i64::from(day)) - days_from_civil(1990, 1, 1)
 }
 
 /// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's algorithm).
