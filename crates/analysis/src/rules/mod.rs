@@ -157,8 +157,11 @@ pub(crate) fn check_item(
             symbols::check_block_interface(&mut ctx, &interface);
         }
         Some(ast::Item::Test(test)) => {
-            let diags = crate::lower::check_test(db, ws, ctx.file, ctx.item, &test);
+            let (diags, symbols) = crate::lower::check_test(db, ws, ctx.file, ctx.item, &test);
             ctx.out.diags.extend(diags);
+            for symbol in symbols {
+                ctx.use_symbol(&symbol);
+            }
         }
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
