@@ -143,6 +143,7 @@ impl Analysis {
 
     /// Lowers one test. `Err` is the HG9904 diagnostic (on the test's name, in its file) when
     /// the test cannot run because of error-level diagnostics (`runtime.md` §6).
+    #[allow(clippy::result_large_err)] // the interface the runner is built against
     pub fn lower_test(
         &self,
         path: &str,
@@ -214,6 +215,7 @@ pub(crate) fn check_test(
     })
 }
 
+#[allow(clippy::result_large_err)]
 fn lower_test(
     db: &dyn salsa::Database,
     ws: Workspace,
