@@ -18,9 +18,15 @@ pub struct Trace {
     pub failures: Vec<Json>,
     pub initial: Initial,
     pub cycles: Vec<CycleRecord>,
+    /// The internal messages before the first cycle (for the VCD; not in the JSON).
+    #[serde(skip)]
+    pub initial_messages: Vec<bool>,
+    /// The watched values before the first cycle (for the VCD; not in the JSON).
+    #[serde(skip)]
+    pub initial_watch_values: Vec<Option<crate::Value>>,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Default)]
 pub struct Initial {
     /// Path text → VALUE (see [`json_value`]), in watch order.
     pub watch: serde_json::Map<String, Json>,
@@ -37,6 +43,13 @@ pub struct CycleRecord {
     pub instances: Vec<InstanceRecord>,
     pub charts: Vec<ChartRecord>,
     pub watch: serde_json::Map<String, Json>,
+    /// The watched values after the cycle, in watch order (`None`: unreadable); for the VCD.
+    #[serde(skip)]
+    pub watch_values: Vec<Option<crate::Value>>,
+    /// Every internal message of the groups run, in run-list and group order, after the
+    /// cycle; for the VCD.
+    #[serde(skip)]
+    pub messages: Vec<bool>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -129,20 +142,19 @@ pub fn json_value(v: &crate::Value) -> Json {
             } else if x.is_infinite() {
                 Json::from(if *x > 0.0 { "inf" } else { "-inf" })
             } else {
-                serde_json::Number::from_f64(f64::from(*x))
-                    .map_or(Json::Null, Json::Number)
+                // The shortest text that reads back as the same binary32 (`0.1`, not
+                // `0.10000000149011612`): parsed as a double, it prints the same digits.
+                let shortest = crate::test::real_text(*x).parse::<f64>().unwrap_or(0.0);
+                serde_json::Number::from_f64(shortest).map_or(Json::Null, Json::Number)
             }
         }
-        V::DateAndTime(bytes) => Json::from(
-            bytes
-                .iter()
-                .map(|b| format!("{b:02X}"))
-                .collect::<String>(),
-        ),
+        V::DateAndTime(bytes) => {
+            Json::from(bytes.iter().map(|b| format!("{b:02X}")).collect::<String>())
+        }
         V::Char(c) => Json::from(char::from(*c).to_string()),
         V::String(s) => Json::from(s.clone()),
-        V::OpState(n) => Json::from(
-            crate::program::OpState::from_number(*n).map_or("?", |s| s.name()),
-        ),
+        V::OpState(n) => {
+            Json::from(crate::program::OpState::from_number(*n).map_or("?", |s| s.name()))
+        }
     }
 }
