@@ -18,7 +18,7 @@ use crate::eval;
 use crate::machine::Fault;
 use crate::program::{CmpOp, Expr, Origin, PathKind, Program, TestStmt, TestStmtKind};
 use crate::sim::Sim;
-use crate::trace::{Before, CycleRecord, Initial, Trace, json_value};
+use crate::trace::{Before, CycleRecord, Initial, OrderedMap, Trace, json_value};
 use crate::value::Value;
 
 /// How a test ended (`runtime.md` §7: passed, failed = HG9901/HG9902, error = HG9903/HG9904).
@@ -398,13 +398,8 @@ fn new_trace(program: &Program) -> Trace {
 }
 
 /// The watched paths now: as JSON VALUEs (a path that cannot be read is `null`) and as values.
-fn watch_values(
-    sim: &mut Sim<'_>,
-) -> (
-    serde_json::Map<String, serde_json::Value>,
-    Vec<Option<Value>>,
-) {
-    let mut map = serde_json::Map::new();
+fn watch_values(sim: &mut Sim<'_>) -> (OrderedMap, Vec<Option<Value>>) {
+    let mut map = OrderedMap::default();
     let mut values = Vec::new();
     let program = sim.program;
     let Some(test) = &program.test else {
