@@ -8,13 +8,11 @@
 //! of the test and the first after each `restart` pass INIT_SD = 1 to the groups and
 //! `first = true` to the charts.
 
-use crate::chart::{self, ChartRt};
-use crate::eval::Env;
+use crate::chart::{self, ChartRt, Charts};
 use crate::group::{self, GroupRt};
 use crate::machine::{Fault, Machine};
-use crate::program::{Command, Program, RunEntry, SfcFlag, StepIdx, StepMember};
+use crate::program::{Command, Program, RunEntry, StepIdx};
 use crate::trace::{ChartRecord, CycleRecord};
-use crate::value::Value;
 
 /// The most cycles one test may run (§1.4); one more is a runtime fault.
 pub const MAX_CYCLES: u64 = 10_000_000;
@@ -54,7 +52,11 @@ impl<'p> Sim<'p> {
         Sim {
             program,
             machine: Machine::new(program),
-            groups: program.groups.iter().map(|_| GroupRt::new()).collect(),
+            groups: program
+                .groups
+                .iter()
+                .map(|_| GroupRt::with_cycle_ms(cycle_ms))
+                .collect(),
             charts: (0..program.charts.len() as u32)
                 .map(|chart| ChartRt::new(program, chart))
                 .collect(),
@@ -128,10 +130,19 @@ impl<'p> Sim<'p> {
                                 c,
                                 rt,
                                 first,
+                                self.cycle_ms,
                                 chart_record,
                             )?;
                         }
-                        None => chart::cycle(&mut self.machine, self.program, c, rt, first, None)?,
+                        None => chart::cycle(
+                            &mut self.machine,
+                            self.program,
+                            c,
+                            rt,
+                            first,
+                            self.cycle_ms,
+                            None,
+                        )?,
                     }
                 }
             }
@@ -146,9 +157,9 @@ impl<'p> Sim<'p> {
     pub fn restart(&mut self, cold: bool) {
         if cold {
             self.machine.restart_cold(self.program);
-            for group in &mut self.groups {
-                group.fresh = true;
-            }
+        }
+        for group in &mut self.groups {
+            group.restart(cold);
         }
         for chart in &mut self.charts {
             chart.restart();
@@ -171,50 +182,9 @@ impl<'p> Sim<'p> {
         }
     }
 
-    /// The machine and what a test expression sees besides memory, borrowed together.
-    pub fn split(&mut self) -> (&mut Machine, SimEnv<'_>) {
-        (
-            &mut self.machine,
-            SimEnv {
-                program: self.program,
-                charts: &self.charts,
-            },
-        )
+    /// The machine and what a test expression sees besides memory (every chart's state and
+    /// steps), borrowed together.
+    pub fn split(&mut self) -> (&mut Machine, Charts<'_>) {
+        (&mut self.machine, Charts(&self.charts))
     }
-}
-
-/// What a test expression sees besides memory (§5.3): the charts' operating states and steps.
-/// `SFC.` flags read FALSE outside a chart.
-pub struct SimEnv<'a> {
-    pub program: &'a Program,
-    pub charts: &'a [ChartRt],
-}
-
-impl Env for SimEnv<'_> {
-    fn sfc_flag(&self, _flag: SfcFlag) -> bool {
-        false
-    }
-
-    fn chart_state(&self, chart: u32) -> u8 {
-        self.charts
-            .get(chart as usize)
-            .map_or(crate::program::OpState::Ready as u8, |rt| rt.state as u8)
-    }
-
-    fn step(&self, chart: u32, sequencer: u32, step: StepIdx, member: StepMember) -> Value {
-        match self.charts.get(chart as usize) {
-            Some(rt) => step_value(rt, sequencer, step, member),
-            None => match member {
-                StepMember::Time => Value::Time(0),
-                StepMember::Active | StepMember::Error => Value::Bool(false),
-            },
-        }
-    }
-}
-
-/// A step's member as the chart engine keeps it.
-// TODO(rt-chart): replace by the chart engine's accessor once it is merged.
-fn step_value(rt: &ChartRt, sequencer: u32, step: StepIdx, member: StepMember) -> Value {
-    let _ = (rt, sequencer, step, member);
-    todo!("chart: step state")
 }

@@ -151,8 +151,9 @@ impl Runner<'_, '_> {
     fn statement(&mut self, stmt: &TestStmt) -> Result<Flow, Fault> {
         match &stmt.kind {
             TestStmtKind::Set { target, value } => {
+                let program = self.sim.program;
                 let (m, env) = self.sim.split();
-                let v = eval::eval(value, m, &env)?;
+                let v = eval::eval(value, m, program, &env)?;
                 let v = eval::convert(v, target.ty);
                 match &target.kind {
                     PathKind::Place(place) => m.write_value(place, &v)?,
@@ -302,18 +303,22 @@ impl Runner<'_, '_> {
     }
 
     fn holds(&mut self, cond: &Expr) -> Result<bool, Fault> {
+        let program = self.sim.program;
         let (m, env) = self.sim.split();
-        Ok(matches!(eval::eval(cond, m, &env)?, Value::Bool(true)))
+        Ok(matches!(
+            eval::eval(cond, m, program, &env)?,
+            Value::Bool(true)
+        ))
     }
 
     /// Each path of `cond` with its value now, in first-appearance order, once each.
     fn values(&mut self, cond: &Expr) -> Result<Vec<(String, Value)>, Fault> {
-        let mut paths = Vec::new();
-        collect_paths(cond, &mut paths);
+        let paths = eval::paths(cond);
+        let program = self.sim.program;
         let (m, env) = self.sim.split();
         let mut values = Vec::with_capacity(paths.len());
         for path in paths {
-            values.push((path.text.clone(), eval::read_path(path, m, &env)?));
+            values.push((path.text.clone(), eval::read_path(path, m, program, &env)?));
         }
         Ok(values)
     }
@@ -407,7 +412,7 @@ fn watch_values(sim: &mut Sim<'_>) -> (OrderedMap, Vec<Option<Value>>) {
     };
     let (m, env) = sim.split();
     for path in &test.watch {
-        let value = eval::read_path(path, m, &env).ok();
+        let value = eval::read_path(path, m, program, &env).ok();
         map.insert(
             path.text.clone(),
             value.as_ref().map_or(serde_json::Value::Null, json_value),
@@ -435,27 +440,6 @@ fn message_values(sim: &mut Sim<'_>) -> Vec<bool> {
         }
     }
     out
-}
-
-/// The paths of an expression in first-appearance order, each once (by text).
-fn collect_paths<'e>(expr: &'e Expr, out: &mut Vec<&'e crate::program::Path>) {
-    // An explicit stack: expressions can be deep (bounded by the parser's nesting limit).
-    let mut stack = vec![expr];
-    while let Some(expr) = stack.pop() {
-        match expr {
-            Expr::Const(_) => {}
-            Expr::Read(path) => {
-                if !out.iter().any(|p| p.text == path.text) {
-                    out.push(path);
-                }
-            }
-            Expr::Not(inner) => stack.push(inner),
-            Expr::And(a, b) | Expr::Or(a, b) | Expr::Xor(a, b) | Expr::Cmp(_, a, b) => {
-                stack.push(b);
-                stack.push(a);
-            }
-        }
-    }
 }
 
 /// `{values}` of §6: `path = value`, joined by `, `.

@@ -175,6 +175,7 @@ impl ChartLowering<'_, '_> {
             }
             ast::Expr::Paren(p) => p.expr().and_then(|e| self.static_ty(&e)),
             ast::Expr::Prefix(_) | ast::Expr::Bin(_) => Some(Ty::Bool),
+            ast::Expr::TestPath(_) => None,
         }
     }
 
@@ -188,6 +189,7 @@ impl ChartLowering<'_, '_> {
             }
             ast::Expr::Path(path) => Expr::Read(self.path(path, hint)?),
             ast::Expr::Paren(p) => self.expr(&p.expr()?, hint)?,
+            ast::Expr::TestPath(_) => return None,
             ast::Expr::Prefix(p) => Expr::Not(Box::new(self.expr(&p.operand()?, Some(Ty::Bool))?)),
             ast::Expr::Bin(b) => {
                 let op = b.op_text()?;
