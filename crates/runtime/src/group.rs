@@ -26,26 +26,31 @@ pub struct GroupRt {
     /// The next call is the first of the test or the first after `restart cold` (§2.8).
     pub fresh: bool,
     /// Δ in ms, subtracted from WT_/ST_CurrValue by every turn's time update (§2.6).
-    pub cycle_ms: u32,
+    /// `None`: the program's test's Δ (`Test::cycle_ms`), [`DEFAULT_CYCLE_MS`] without a test.
+    pub cycle_ms: Option<u32>,
     /// Per graph id: state number → index in [`Graph::states`] + 1 (0: no such state). Only
     /// the graphs this group instantiates are filled; built by the first call.
     index: Vec<Vec<u32>>,
-    built: bool,
+    /// The group the lookup was built for.
+    built_for: Option<u32>,
 }
 
 impl GroupRt {
-    /// A fresh group with Δ = [`DEFAULT_CYCLE_MS`].
+    /// A fresh group; Δ is the program's (its test's `cycle`, else [`DEFAULT_CYCLE_MS`]).
     pub fn new() -> GroupRt {
-        GroupRt::with_cycle_ms(DEFAULT_CYCLE_MS)
-    }
-
-    /// A fresh group with the test's Δ.
-    pub fn with_cycle_ms(cycle_ms: u32) -> GroupRt {
         GroupRt {
             fresh: true,
-            cycle_ms,
+            cycle_ms: None,
             index: Vec::new(),
-            built: false,
+            built_for: None,
+        }
+    }
+
+    /// A fresh group with an explicit Δ.
+    pub fn with_cycle_ms(cycle_ms: u32) -> GroupRt {
+        GroupRt {
+            cycle_ms: Some(cycle_ms),
+            ..GroupRt::new()
         }
     }
 
@@ -59,7 +64,7 @@ impl GroupRt {
         }
     }
 
-    fn build_index(&mut self, program: &Program, group: &Group) {
+    fn build_index(&mut self, program: &Program, id: u32, group: &Group) {
         self.index = vec![Vec::new(); program.graphs.len()];
         for inst in &group.instances {
             let Some(graph) = program.graphs.get(inst.graph as usize) else {
@@ -79,7 +84,7 @@ impl GroupRt {
                 }
             }
         }
-        self.built = true;
+        self.built_for = Some(id);
     }
 }
 
@@ -104,8 +109,8 @@ pub fn call(
         .groups
         .get(group as usize)
         .ok_or_else(|| Fault::new(format!("no group {group} in the program")))?;
-    if !rt.built {
-        rt.build_index(program, g);
+    if rt.built_for != Some(group) {
+        rt.build_index(program, group, g);
     }
     // Step 1.
     m.begin_group_call();
@@ -125,7 +130,12 @@ pub fn call(
     let ctx = Ctx {
         options: g.options,
         fresh,
-        dt: rt.cycle_ms,
+        dt: rt.cycle_ms.unwrap_or_else(|| {
+            program
+                .test
+                .as_ref()
+                .map_or(DEFAULT_CYCLE_MS, |t| t.cycle_ms)
+        }),
     };
     for inst in &g.instances {
         let graph = program.graphs.get(inst.graph as usize).ok_or_else(|| {
@@ -251,8 +261,13 @@ impl<'g> Turn<'_, 'g> {
         }
         let graph = self.graph;
         let s = self.get(Predef::CurrentState)? as u16;
-        if let Some(rec) = self.rec.as_deref_mut() {
-            rec.state = s;
+        if self.rec.is_some() {
+            // Filled in again at the end; these stay when the turn faults.
+            let previous = self.get(Predef::PreviousState)? as u16;
+            if let Some(rec) = self.rec.as_deref_mut() {
+                rec.state = s;
+                rec.previous = previous;
+            }
         }
         // Step 0.
         self.set(Predef::StateChange, 0)?;

@@ -5,7 +5,8 @@
 mod group_support;
 
 use group_support::{GraphB, ProgramB, Sim};
-use higraph_runtime::program::{Graph, GroupOptions, Operand, TimeValue};
+use higraph_runtime::group::GroupRt;
+use higraph_runtime::program::{Graph, GroupOptions, Operand, Origin, Test, TimeValue};
 use higraph_runtime::{Ty, Value};
 use serde_json::json;
 
@@ -1043,4 +1044,62 @@ fn fresh_turn_skips_the_time_update() {
     sim.set_var("G", "I", "WT_CurrValue", 30);
     sim.step();
     check_mem(&mut sim, &[("MD 20", 20)]);
+}
+
+#[test]
+fn a_fault_stops_the_call_and_keeps_the_partial_record() {
+    let graph = GraphB::new("Fault", &[("Go", Ty::Bool)])
+        .state(0, "")
+        .state(1, "E: SET; = M 5.0; E: L MW 70000;")
+        .permanent("C: SET; = M 5.1;")
+        .trans("any->0 prio 1", "U INIT_SD;")
+        .trans("0->1", "U Go;")
+        .build();
+    let mut b = ProgramB::new();
+    let g = b.graph(graph);
+    b.group("G", PLAIN, &[("I", g, &[("Go", "M 0.0")]), ("J", g, &[])]);
+    let mut sim = Sim::new(b.build());
+    sim.step();
+    sim.set("M 5.1", 0);
+    sim.set("M 0.0", 1);
+    let fault = sim.try_step().expect_err("access past byte 65535");
+    assert!(!fault.reason.is_empty());
+    // The change happened (CurrentState is written before `E`), the permanent `C` did not run,
+    // and J had no turn.
+    check(&mut sim, "G", "I", &[("CurrentState", 1)]);
+    check_mem(&mut sim, &[("M 5.0", 1), ("M 5.1", 0)]);
+    assert_eq!(sim.records.len(), 1);
+    let r = sim.rec("G", "I");
+    assert_eq!(r.parts, ["state 1 E"]);
+    assert_eq!((r.state, r.previous), (0, 0));
+}
+
+#[test]
+fn delta_is_the_tests_cycle_unless_given() {
+    let graph = GraphB::new("Delta", &[])
+        .state(0, "")
+        .wait(0, TimeValue::Const(100))
+        .trans("any->0 prio 1", "U INIT_SD;")
+        .build();
+    let mut b = ProgramB::new();
+    let g = b.graph(graph);
+    b.group("G", PLAIN, &[("I", g, &[])]);
+    let mut program = b.build();
+    program.test = Some(Test {
+        name: "t".to_owned(),
+        cycle_ms: 25,
+        run: Vec::new(),
+        stmts: Vec::new(),
+        watch: Vec::new(),
+        origin: Origin::NONE,
+    });
+    let mut sim = Sim::new(program.clone());
+    sim.step();
+    sim.step();
+    check(&mut sim, "G", "I", &[("WT_CurrValue", 75)]);
+    let mut sim = Sim::new(program);
+    sim.rts[0] = GroupRt::with_cycle_ms(40);
+    sim.step();
+    sim.step();
+    check(&mut sim, "G", "I", &[("WT_CurrValue", 60)]);
 }

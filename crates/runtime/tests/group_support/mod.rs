@@ -465,17 +465,16 @@ pub struct Sim {
 impl Sim {
     pub fn new(program: Program) -> Sim {
         let m = Machine::new(&program);
-        let rts = program
-            .groups
-            .iter()
-            .map(|_| GroupRt::with_cycle_ms(10))
-            .collect();
+        // Like the runner: Δ is the test's (10 ms without one); the groups take it from the
+        // program.
+        let cycle_ms = program.test.as_ref().map_or(10, |t| t.cycle_ms);
+        let rts = program.groups.iter().map(|_| GroupRt::new()).collect();
         Sim {
             program,
             m,
             rts,
             cycle: 0,
-            cycle_ms: 10,
+            cycle_ms,
             init_sd: true,
             record: true,
             records: Vec::new(),
