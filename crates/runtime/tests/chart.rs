@@ -1264,3 +1264,23 @@ fn equal_priority_does_not_displace() {
     assert_eq!(s.rec.running.as_deref(), Some("SECOND"));
     assert!(s.fired().is_empty());
 }
+
+#[test]
+fn a_suspended_sequencer_is_discarded_without_phases() {
+    let mut s = abfuellen();
+    s.command(Command::Start);
+    s.set(&e(4, 0), true);
+    s.steps(2);
+    s.command(Command::Hold);
+    s.steps(4); // 3..6: HALT runs and completes
+    assert_eq!(s.state(), OpState::Holding);
+    s.step(); // 7
+    assert_eq!(s.state(), OpState::Held);
+    assert_eq!(s.rec.suspended.as_deref(), Some("RUN"));
+    s.command(Command::Stop);
+    s.step();
+    assert_eq!(s.state(), OpState::Stopped);
+    assert!(s.phases().is_empty(), "discarding runs no phase");
+    assert_eq!(s.rec.suspended, None);
+    assert!(!s.active(0, 1), "the suspended steps are inactive");
+}
