@@ -15,7 +15,7 @@ const PLANT: &str = r#"symbols < Knopf : E 0.0; Lampe : A 0.0; Merker : M 5.0; >
 graph Blink <
   in < Go : BOOL; >
   out < Light : BOOL; >
-  state 0 "Aus" < >
+  state 0 "Aus" < C: CLR; = Light; >
   state 1 "An" < C: = Light; >
   trans any->0 prio 1 "startup" < U INIT_SD; >
   trans 0->1 < U Go; >
@@ -26,14 +26,16 @@ group Pult fc FC1 db DB1 <
 >
 "#;
 
-const TESTS: &str = r#"test Lampe_An "the lamp follows the button" <
+const LAMPE_AN: &str = r#"test Lampe_An "the lamp follows the button" <
   set Knopf := TRUE;
   step 2;
   expect Anzeige.state = 1 and Lampe;
   set Knopf := FALSE;
   until not Lampe within T#50MS;
 >
-test Lampe_Falsch <
+"#;
+
+const LAMPE_FALSCH: &str = r#"test Lampe_Falsch <
   step;
   expect Lampe "the lamp is off at first";
   set Knopf := TRUE;
@@ -46,7 +48,8 @@ fn workspace() -> TempTree {
     let tree = TempTree::new();
     tree.file("higraph.toml", "[workspace]\nmnemonic = \"simatic\"\n")
         .file("plant.higraph", PLANT)
-        .file("tests/lampe.higraph", TESTS);
+        .file("tests/an.higraph", LAMPE_AN)
+        .file("tests/falsch.higraph", LAMPE_FALSCH);
     tree
 }
 
@@ -106,13 +109,23 @@ fn tests_that_cannot_run_are_errors() {
     let tree = workspace();
     tree.file(
         "tests/kaputt.higraph",
-        "test Kaputt <\n  expect Gibtsnicht;\n>\n",
+        "test Kaputt <\n  run Kaputt_Grp;\n  step;\n  expect K.state = 0;\n>\n\
+         graph Kaputt_G <\n  state 0 < C: U Nirgends; >\n>\n\
+         group Kaputt_Grp fc FC2 db DB2 <\n  instance K : Kaputt_G < >\n>\n",
     );
     let run = test(&tree, &["--filter", "kaputt", "--format", "json"]);
     assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
     let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
     assert_eq!(json["tests"][0]["result"], "error");
     assert_eq!(json["tests"][0]["failures"][0]["code"], "HG9904");
+    assert_eq!(
+        json["tests"][0]["failures"][0]["message"],
+        "test Kaputt cannot run: 2 error(s) in graph Kaputt_G"
+    );
+    assert_eq!(
+        json["tests"][0]["failures"][0]["range"],
+        serde_json::json!({"start": {"line": 0, "character": 5}, "end": {"line": 0, "character": 11}})
+    );
     assert_eq!(json["summary"]["errors"], 1);
 }
 
@@ -164,6 +177,7 @@ fn junit_output_is_well_formed() {
             "testsuites",
             "testsuite",
             "testcase",
+            "testsuite",
             "testcase",
             "failure",
             "failure"
@@ -199,7 +213,7 @@ fn traces_are_written_and_read_back() {
     let trace: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     assert_valid(&validator("test-trace.schema.json"), &trace);
     assert_eq!(trace["test"], "Lampe_An");
-    assert_eq!(trace["file"], "tests/lampe.higraph");
+    assert_eq!(trace["file"], "tests/an.higraph");
     assert_eq!(trace["cycles"].as_array().map(Vec::len), Some(3));
     let failed: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("Lampe_Falsch.json")).unwrap())

@@ -103,7 +103,13 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
         self.diags.push(diag);
     }
 
-    fn closest_fix(&self, diag: Diag, range: TextRange, written: &str, candidates: &[String]) -> Diag {
+    fn closest_fix(
+        &self,
+        diag: Diag,
+        range: TextRange,
+        written: &str,
+        candidates: &[String],
+    ) -> Diag {
         match crate::closest::closest(written, candidates.iter().map(String::as_str)) {
             Some(best) => diag
                 .fix(format!("Replace with '{best}'"), self.loc(range), best)
@@ -405,7 +411,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             (ETy::Known(a), ETy::Known(c)) => (a, c),
             (ETy::Known(a), ETy::IntLit) => (a, Ty::Dint),
             (ETy::IntLit, ETy::Known(c)) => (Ty::Dint, c),
-            _ => return l.zip(r).map(|(l, r)| Expr::Cmp(cmp, Box::new(l), Box::new(r))),
+            _ => {
+                return l
+                    .zip(r)
+                    .map(|(l, r)| Expr::Cmp(cmp, Box::new(l), Box::new(r)));
+            }
         };
         let same = a == c || matches!((a, c), (Ty::String(_), Ty::String(_)));
         if !same {
@@ -422,7 +432,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             } else {
                 ty_name(a)
             };
-            self.push("HG9107", range, format!("'{op}' is not defined for {shown}"));
+            self.push(
+                "HG9107",
+                range,
+                format!("'{op}' is not defined for {shown}"),
+            );
             return None;
         }
         l.zip(r)
@@ -687,7 +701,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
 }
 
 /// The test of a program whose run list is lowered already.
-pub(crate) fn lower(walker: &mut TestWalker<'_, '_, '_>, test: &ast::Test, run: Vec<RunEntry>) -> Test {
+pub(crate) fn lower(
+    walker: &mut TestWalker<'_, '_, '_>,
+    test: &ast::Test,
+    run: Vec<RunEntry>,
+) -> Test {
     let stmts = walker.statements(test);
     let origin_range = test
         .name()
@@ -719,10 +737,12 @@ fn cycle_ms(test: &ast::Test) -> u32 {
             ast::TestStmt::Cycle(cycle) => cycle.time(),
             _ => None,
         })
-        .and_then(|t| match literal::check_literal(&t.text()).map(|l| l.value) {
-            Ok(LiteralValue::Duration { millis }) => u32::try_from(millis).ok(),
-            _ => None,
-        })
+        .and_then(
+            |t| match literal::check_literal(&t.text()).map(|l| l.value) {
+                Ok(LiteralValue::Duration { millis }) => u32::try_from(millis).ok(),
+                _ => None,
+            },
+        )
         .filter(|&ms| ms > 0)
         .unwrap_or(10)
 }
