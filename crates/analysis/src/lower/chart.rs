@@ -164,7 +164,6 @@ impl ChartLowering<'_, '_> {
             ast::Expr::Paren(p) => p.expr().and_then(|e| self.static_ty(&e)),
             ast::Expr::TestPath(_) => None,
             ast::Expr::Prefix(_) | ast::Expr::Bin(_) => Some(Ty::Bool),
-            ast::Expr::TestPath(_) => None,
         }
     }
 
@@ -179,7 +178,6 @@ impl ChartLowering<'_, '_> {
             ast::Expr::Path(path) => Expr::Read(self.path(path, hint)?),
             ast::Expr::TestPath(_) => return None,
             ast::Expr::Paren(p) => self.expr(&p.expr()?, hint)?,
-            ast::Expr::TestPath(_) => return None,
             ast::Expr::Prefix(p) => Expr::Not(Box::new(self.expr(&p.operand()?, Some(Ty::Bool))?)),
             ast::Expr::Bin(b) => {
                 let op = b.op_text()?;
