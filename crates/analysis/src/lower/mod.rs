@@ -198,18 +198,19 @@ fn with_resolver<T>(
     f(resolver)
 }
 
-/// HG9101–HG9111 of a test item (called by the rules for `test` items).
+/// HG9101–HG9111 of a test item (called by the rules for `test` items), and the global
+/// symbols its paths name.
 pub(crate) fn check_test(
     db: &dyn salsa::Database,
     ws: Workspace,
     file: File,
     item: u32,
     test: &ast::Test,
-) -> Vec<Diag> {
+) -> (Vec<Diag>, Vec<String>) {
     with_resolver(db, ws, file, test, |r| {
         let mut walker = test::TestWalker::new(r, file, item, test, None);
         walker.statements(test);
-        walker.diags
+        (walker.diags, walker.used_symbols)
     })
 }
 
