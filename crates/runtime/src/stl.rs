@@ -20,18 +20,28 @@ pub fn run_block(
     block: &Block,
     rlo0: bool,
 ) -> Result<bool, Fault> {
-    run_block_with(m, binding, block, rlo0, |_, _| {})
+    run_block_with(m, binding, block, rlo0, &mut ())
 }
 
-/// [`run_block`] calling `after(i, m)` after instruction `i` has executed (the differential
-/// tests compare the machine there).
+/// Watches a block run instruction by instruction (the differential tests compare the machine
+/// after every instruction). `()` watches nothing and costs nothing.
+pub trait Observer {
+    /// Before instruction `i` executes.
+    fn before(&mut self, _i: usize, _ins: &Instr, _m: &Machine) {}
+    /// After instruction `i` has executed.
+    fn after(&mut self, _i: usize, _ins: &Instr, _m: &Machine) {}
+}
+
+impl Observer for () {}
+
+/// [`run_block`] with an [`Observer`].
 #[inline]
-pub fn run_block_with<F: FnMut(usize, &Machine)>(
+pub fn run_block_with<O: Observer>(
     m: &mut Machine,
     binding: &[Place],
     block: &Block,
     rlo0: bool,
-    mut after: F,
+    obs: &mut O,
 ) -> Result<bool, Fault> {
     m.status.rlo = !rlo0;
     m.status.sta = !rlo0;
@@ -39,13 +49,14 @@ pub fn run_block_with<F: FnMut(usize, &Machine)>(
     m.status.fc = false;
     let mut nest = Nest::default();
     for (i, ins) in block.code.iter().enumerate() {
+        obs.before(i, ins, m);
         if let Err(mut f) = exec(m, binding, ins, &mut nest) {
             if f.origin == crate::program::Origin::NONE {
                 f.origin = ins.origin;
             }
             return Err(f);
         }
-        after(i, m);
+        obs.after(i, ins, m);
     }
     Ok(m.status.rlo)
 }
@@ -851,7 +862,6 @@ fn exec(m: &mut Machine, binding: &[Place], ins: &Instr, nest: &mut Nest) -> Res
                 m.overflow(true);
             } else {
                 m.accu1 = r as i32 as u32;
-                m.status.ov = false;
             }
         }
 
