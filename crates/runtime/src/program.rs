@@ -797,7 +797,11 @@ pub enum PathKind {
     /// reference. A timer or counter reads its status (§5.3).
     Place(Place),
     /// `[Group.]Inst.state` / `.previous`: group index, instance index.
-    InstState { group: u32, instance: u32, previous: bool },
+    InstState {
+        group: u32,
+        instance: u32,
+        previous: bool,
+    },
     /// An `SFC.` flag of the chart whose code is running.
     Sfc(SfcFlag),
     /// `Chart.state`.
@@ -852,9 +856,14 @@ pub struct TestStmt {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum TestStmtKind {
-    Set { target: Path, value: Expr },
+    Set {
+        target: Path,
+        value: Expr,
+    },
     /// `step N;` and `wait d;` (already turned into ⌈d/Δ⌉ cycles).
-    Step { cycles: u64 },
+    Step {
+        cycles: u64,
+    },
     /// `until e within d`: at most `cycles` cycles; `within` as written for the message.
     Until {
         cond: Expr,
@@ -869,10 +878,20 @@ pub enum TestStmtKind {
         message: Option<String>,
         expr_origin: Origin,
     },
-    Command { chart: u32, command: Command },
+    Command {
+        chart: u32,
+        command: Command,
+    },
     /// `confirm C.[Seq.]Step;`.
-    Confirm { chart: u32, sequencer: u32, step: StepIdx, text: String },
-    Restart { cold: bool },
+    Confirm {
+        chart: u32,
+        sequencer: u32,
+        step: StepIdx,
+        text: String,
+    },
+    Restart {
+        cold: bool,
+    },
 }
 
 impl Const {

@@ -129,20 +129,16 @@ pub fn json_value(v: &crate::Value) -> Json {
             } else if x.is_infinite() {
                 Json::from(if *x > 0.0 { "inf" } else { "-inf" })
             } else {
-                serde_json::Number::from_f64(f64::from(*x))
-                    .map_or(Json::Null, Json::Number)
+                serde_json::Number::from_f64(f64::from(*x)).map_or(Json::Null, Json::Number)
             }
         }
-        V::DateAndTime(bytes) => Json::from(
-            bytes
-                .iter()
-                .map(|b| format!("{b:02X}"))
-                .collect::<String>(),
-        ),
+        V::DateAndTime(bytes) => {
+            Json::from(bytes.iter().map(|b| format!("{b:02X}")).collect::<String>())
+        }
         V::Char(c) => Json::from(char::from(*c).to_string()),
         V::String(s) => Json::from(s.clone()),
-        V::OpState(n) => Json::from(
-            crate::program::OpState::from_number(*n).map_or("?", |s| s.name()),
-        ),
+        V::OpState(n) => {
+            Json::from(crate::program::OpState::from_number(*n).map_or("?", |s| s.name()))
+        }
     }
 }

@@ -198,7 +198,11 @@ pub enum Const {
     /// `'c'` … `'cccc'`: the character codes.
     Chars(Vec<u8>),
     /// `P#`: area code (16#81 E … 16#86 L, 0 for an area-less pointer), byte, bit.
-    Pointer { area: u8, byte: u32, bit: u8 },
+    Pointer {
+        area: u8,
+        byte: u32,
+        bit: u8,
+    },
     Bool(bool),
 }
 
