@@ -3,26 +3,26 @@
 //! preview's player) and `higraph/tests` (every test of the workspace, for an editor's test
 //! explorer).
 //!
-//! A run lowers the test on the request's snapshot (`Analysis::lower_test`) and executes it
-//! with `higraph_runtime::test::run`, off the message loop like every request. The runner asks
-//! between cycles whether to stop: when the client cancelled the request or the world wants to
-//! write, so a run never holds up an edit. The result is the test's object of
+//! A run lowers and runs the test on the request's snapshot with `crate::testing` (the code
+//! `higraph-lsp test` runs), off the message loop like every request. The runner asks between
+//! cycles whether to stop: when the client cancelled the request or the world wants to write,
+//! so a run never holds up an edit. The result is the test's object of
 //! `higraph-lsp test --format json`; its failures also become LSP diagnostics, which the world
 //! publishes with the file's own until the workspace changes ([`super::state`]).
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use higraph_analysis::lower::{LoweredTest, TestItem};
-use higraph_analysis::{PositionEncoding, TextRange};
-use higraph_runtime::program::Origin;
-use higraph_runtime::test::{self as runner, Failure, Outcome, RunOptions};
-use serde_json::{Map, Value as Json, json};
+use higraph_analysis::TextRange;
+use higraph_analysis::lower::TestItem;
+use higraph_runtime::test::Outcome;
+use serde_json::{Value as Json, json};
 use tower_lsp_server::ls_types::{self as lsp, Uri};
 
 use super::convert;
 use super::handlers::{HandlerError, HandlerResult};
 use super::state::Snapshot;
+use crate::testing::{self, Positions, TestResult};
 
 /// The command of the test lenses; the only command the server executes.
 pub(crate) const RUN_TEST: &str = "higraph.runTest";
@@ -178,27 +178,12 @@ fn should_stop(snapshot: &Snapshot) -> bool {
         .is_err()
 }
 
-/// A run: the lowered test and the runner's result, or the HG9904 that kept it from running.
-enum Ran {
-    Run(Box<LoweredTest>, runner::TestRun),
-    CannotRun(higraph_analysis::Diagnostic),
-}
-
-fn run(snapshot: &Snapshot, test: &TestItem, trace: bool) -> HandlerResult<Ran> {
-    let lowered = match snapshot.analysis.lower_test(&test.path, &test.name)? {
-        Ok(lowered) => lowered,
-        Err(diagnostic) => return Ok(Ran::CannotRun(diagnostic)),
-    };
-    if should_stop(snapshot) {
-        return Err(HandlerError::Cancelled);
-    }
+/// Lowers and runs a test (`crate::testing`, shared with `higraph-lsp test`), stopping when
+/// [`should_stop`] says so between cycles.
+fn run(snapshot: &Snapshot, test: &TestItem, trace: bool) -> HandlerResult<TestResult> {
     let stop = || should_stop(snapshot);
-    let options = RunOptions {
-        trace,
-        cancelled: &stop,
-    };
-    match runner::run(&lowered.program, &options) {
-        Some(result) => Ok(Ran::Run(Box::new(lowered), result)),
+    match testing::run_test(&snapshot.analysis, test, trace, &stop)? {
+        Some(result) => Ok(result),
         None => Err(HandlerError::Cancelled),
     }
 }
@@ -207,15 +192,32 @@ fn run(snapshot: &Snapshot, test: &TestItem, trace: bool) -> HandlerResult<Ran> 
 /// `--format json` object.
 pub(crate) fn run_test(snapshot: &Snapshot, params: TestParams) -> HandlerResult<RunTestOutcome> {
     let test = find_test(snapshot, &params)?;
-    let ran = run(snapshot, &test, false)?;
-    let report = Report::new(snapshot, &test, &ran);
+    let result = run(snapshot, &test, false)?;
+    let json = testing::test_json(&result, &mut Positions::new(&snapshot.analysis));
+    let json = serde_json::to_value(&json)
+        .map_err(|error| HandlerError::Failed(format!("cannot write the result: {error}")))?;
+    let files = snapshot.analysis.files();
+    let diagnostics = result
+        .failures
+        .iter()
+        .filter_map(|failure| {
+            let index = snapshot.line_index(&failure.file)?;
+            let diagnostic = convert::diagnostic(
+                &failure.diagnostic,
+                &index,
+                snapshot.encoding,
+                |file, range| location(snapshot, &files.get(file.0 as usize)?.path, range),
+            );
+            Some((failure.file.clone(), diagnostic))
+        })
+        .collect();
     Ok(RunTestOutcome {
-        json: report.json,
+        json,
         key: test_key(&test.path, &test.name),
         record: TestRecord {
-            passed: report.outcome == Outcome::Passed,
-            failures: report.diagnostics.len(),
-            diagnostics: report.diagnostics,
+            passed: result.outcome == Outcome::Passed,
+            failures: result.failures.len(),
+            diagnostics,
         },
         generation: snapshot.generation(),
     })
@@ -224,161 +226,17 @@ pub(crate) fn run_test(snapshot: &Snapshot, params: TestParams) -> HandlerResult
 /// `higraph/simulate`: runs the test with a trace and answers the JSON trace.
 pub(crate) fn simulate(snapshot: &Snapshot, params: TestParams) -> HandlerResult<Json> {
     let test = find_test(snapshot, &params)?;
-    let ran = run(snapshot, &test, true)?;
-    let report = Report::new(snapshot, &test, &ran);
-    match ran {
-        Ran::CannotRun(diagnostic) => Err(HandlerError::Failed(diagnostic.message)),
-        Ran::Run(_, result) => {
-            let Some(mut trace) = result.trace else {
-                return Err(HandlerError::Failed(format!(
-                    "the run of test '{}' gave no trace",
-                    test.name
-                )));
-            };
-            trace.file = test.path.clone();
-            trace.failures = report.failures;
-            serde_json::to_value(&trace)
-                .map_err(|error| HandlerError::Failed(format!("cannot write the trace: {error}")))
-        }
-    }
-}
-
-/// A run as the client sees it: the JSON object, the failures' JSON and their diagnostics.
-struct Report {
-    outcome: Outcome,
-    json: Json,
-    failures: Vec<Json>,
-    diagnostics: Vec<(String, lsp::Diagnostic)>,
-}
-
-impl Report {
-    fn new(snapshot: &Snapshot, test: &TestItem, ran: &Ran) -> Report {
-        let mut failures = Vec::new();
-        let mut diagnostics = Vec::new();
-        let (outcome, cycles, time_ms) = match ran {
-            Ran::CannotRun(diagnostic) => {
-                failures.push(json!({
-                    "code": diagnostic.code.as_str(),
-                    "message": diagnostic.message,
-                    "file": test.path,
-                    "range": json_range(snapshot, &test.path, diagnostic.range),
-                    "cycle": 0,
-                    "time_ms": 0,
-                    "values": {},
-                }));
-                if let Some(index) = snapshot.line_index(&test.path) {
-                    let files = snapshot.analysis.files();
-                    let converted = convert::diagnostic(
-                        diagnostic,
-                        &index,
-                        snapshot.encoding,
-                        |file, range| location(snapshot, &files.get(file.0 as usize)?.path, range),
-                    );
-                    diagnostics.push((test.path.clone(), converted));
-                }
-                (Outcome::Error, 0, 0)
-            }
-            Ran::Run(lowered, result) => {
-                for failure in &result.failures {
-                    let place = lowered.origin(failure.origin).cloned();
-                    let (file, range) = place.clone().unwrap_or_else(|| {
-                        // A failure without a place (none is expected): the test's name.
-                        (test.path.clone(), test.name_range)
-                    });
-                    failures.push(failure_json(snapshot, failure, &file, range));
-                    if let Some(diagnostic) =
-                        failure_diagnostic(snapshot, lowered, failure, &file, range)
-                    {
-                        diagnostics.push((file, diagnostic));
-                    }
-                }
-                (result.outcome, result.cycles, result.time_ms)
-            }
-        };
-        let json = json!({
-            "name": test.name,
-            "file": test.path,
-            "range": json_range(snapshot, &test.path, test.range),
-            "result": outcome_name(outcome),
-            "cycles": cycles,
-            "time_ms": time_ms,
-            "failures": failures,
-        });
-        Report {
-            outcome,
-            json,
-            failures,
-            diagnostics,
-        }
-    }
-}
-
-fn outcome_name(outcome: Outcome) -> &'static str {
-    match outcome {
-        Outcome::Passed => "passed",
-        Outcome::Failed => "failed",
-        Outcome::Error => "error",
-    }
-}
-
-/// A range as `check --format json` writes it: LSP conventions, UTF-16 columns.
-fn json_range(snapshot: &Snapshot, path: &str, range: TextRange) -> Json {
-    let range = match snapshot.line_index(path) {
-        Some(index) => convert::range(&index, range, PositionEncoding::Utf16),
-        None => lsp::Range::default(),
+    let result = run(snapshot, &test, true)?;
+    let Some(trace) = &result.trace else {
+        // Only a test that could not run has no trace: say why.
+        let reason = result.failures.first().map_or_else(
+            || "it gave no trace".to_owned(),
+            |f| f.diagnostic.message.clone(),
+        );
+        return Err(HandlerError::Failed(reason));
     };
-    serde_json::to_value(range).unwrap_or(Json::Null)
-}
-
-fn failure_json(snapshot: &Snapshot, failure: &Failure, file: &str, range: TextRange) -> Json {
-    let values: Map<String, Json> = failure
-        .values
-        .iter()
-        .map(|(path, value)| (path.clone(), higraph_runtime::trace::json_value(value)))
-        .collect();
-    json!({
-        "code": failure.code,
-        "message": failure.message,
-        "file": file,
-        "range": json_range(snapshot, file, range),
-        "cycle": failure.cycle,
-        "time_ms": failure.time_ms,
-        "values": values,
-    })
-}
-
-/// The diagnostic of a failure, with the running test statement as related location of a
-/// fault inside STL.
-fn failure_diagnostic(
-    snapshot: &Snapshot,
-    lowered: &LoweredTest,
-    failure: &Failure,
-    file: &str,
-    range: TextRange,
-) -> Option<lsp::Diagnostic> {
-    let index = snapshot.line_index(file)?;
-    let related: Vec<lsp::DiagnosticRelatedInformation> = (failure.statement != Origin::NONE
-        && failure.statement != failure.origin)
-        .then(|| lowered.origin(failure.statement))
-        .flatten()
-        .and_then(|(path, range)| location(snapshot, path, *range))
-        .map(|location| lsp::DiagnosticRelatedInformation {
-            location,
-            message: "the running test statement".to_owned(),
-        })
-        .into_iter()
-        .collect();
-    Some(lsp::Diagnostic {
-        range: convert::range(&index, range, snapshot.encoding),
-        severity: Some(lsp::DiagnosticSeverity::ERROR),
-        code: Some(lsp::NumberOrString::String(failure.code.to_owned())),
-        code_description: None,
-        source: Some(convert::DIAGNOSTIC_SOURCE.to_owned()),
-        message: failure.message.clone(),
-        related_information: (!related.is_empty()).then_some(related),
-        tags: None,
-        data: None,
-    })
+    serde_json::to_value(trace)
+        .map_err(|error| HandlerError::Failed(format!("cannot write the trace: {error}")))
 }
 
 fn location(snapshot: &Snapshot, path: &str, range: TextRange) -> Option<lsp::Location> {
