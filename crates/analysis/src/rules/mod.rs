@@ -156,7 +156,10 @@ pub(crate) fn check_item(
             decls::check_block_interface(&mut ctx, &interface);
             symbols::check_block_interface(&mut ctx, &interface);
         }
-        Some(ast::Item::Test(_)) => {}
+        Some(ast::Item::Test(test)) => {
+            let diags = crate::lower::check_test(db, ws, ctx.file, ctx.item, &test);
+            ctx.out.diags.extend(diags);
+        }
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
     if is_later_duplicate(&ctx, item_node.as_ref()) {
