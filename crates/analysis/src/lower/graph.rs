@@ -6,8 +6,8 @@
 use std::collections::HashMap;
 
 use higraph_runtime::program::{
-    Block, Call, Graph, Instr, OpCode, Operand, Origin, Predef, State, Target, TimeValue,
-    Trans, VarIdx, VarInfo,
+    Block, Call, Graph, Instr, OpCode, Operand, Origin, Predef, State, Target, TimeValue, Trans,
+    VarIdx, VarInfo,
 };
 use higraph_runtime::value::{Const, Ty, Value};
 use higraph_syntax::{TextRange, ast, ast::AstNode};
@@ -595,4 +595,3 @@ impl GraphLowering<'_, '_> {
         out
     }
 }
-

@@ -198,18 +198,19 @@ fn with_resolver<T>(
     f(resolver)
 }
 
-/// HG9101–HG9111 of a test item (called by the rules for `test` items).
+/// HG9101–HG9111 of a test item (called by the rules for `test` items), and the global
+/// symbols its paths name.
 pub(crate) fn check_test(
     db: &dyn salsa::Database,
     ws: Workspace,
     file: File,
     item: u32,
     test: &ast::Test,
-) -> Vec<Diag> {
+) -> (Vec<Diag>, Vec<String>) {
     with_resolver(db, ws, file, test, |r| {
         let mut walker = test::TestWalker::new(r, file, item, test, None);
         walker.statements(test);
-        walker.diags
+        (walker.diags, walker.used_symbols)
     })
 }
 
@@ -219,9 +220,10 @@ fn lower_test(
     file: File,
     name: &str,
 ) -> Option<Result<LoweredTest, Diagnostic>> {
-    let (item, test) = file_tests(db, file)
-        .into_iter()
-        .find(|(_, t)| t.name().is_some_and(|n| n.text().eq_ignore_ascii_case(name)))?;
+    let (item, test) = file_tests(db, file).into_iter().find(|(_, t)| {
+        t.name()
+            .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+    })?;
     let run = paths::run_list(db, ws, &test);
     if let Some(diag) = cannot_run(db, ws, file, item, &test, &run) {
         return Some(Err(diag));
@@ -277,7 +279,9 @@ fn cannot_run(
             ItemKind::Group => {
                 items.push((f, i, format!("group {name}")));
                 let loc = ItemLoc::new(db, f, i);
-                if let Some(ast::Item::Group(group)) = db::item_root(db, loc).and_then(ast::Item::cast) {
+                if let Some(ast::Item::Group(group)) =
+                    db::item_root(db, loc).and_then(ast::Item::cast)
+                {
                     for instance in group.instances() {
                         if let Some(g) = instance.graph().and_then(|g| index.graph(&g.text()))
                             && !graphs.contains(&(g.file, g.item))
@@ -294,7 +298,9 @@ fn cannot_run(
     for &f in ws.files(db) {
         for (i, summary) in db::file_summary(db, f).items.iter().enumerate() {
             match summary.kind {
-                ItemKind::Symbols => items.push((f, i as u32, format!("symbols in {}", f.path(db)))),
+                ItemKind::Symbols => {
+                    items.push((f, i as u32, format!("symbols in {}", f.path(db))))
+                }
                 ItemKind::BlockInterface => {
                     let reference = index
                         .block_interfaces
@@ -321,13 +327,19 @@ fn cannot_run(
                 .filter(|d| d.severity == Severity::Error)
                 .collect()
         });
-        let offset = db::item_offsets(db, *f).get(*i as usize).copied().unwrap_or_default();
+        let offset = db::item_offsets(db, *f)
+            .get(*i as usize)
+            .copied()
+            .unwrap_or_default();
         let len = db::file_items(db, *f)
             .get(*i as usize)
             .map(|g| g.0.text_len())
             .unwrap_or_default();
         let range = TextRange::at(offset, len);
-        let errors: Vec<&&Diagnostic> = diags.iter().filter(|d| range.contains_range(d.range)).collect();
+        let errors: Vec<&&Diagnostic> = diags
+            .iter()
+            .filter(|d| range.contains_range(d.range))
+            .collect();
         if let Some(first) = errors.first() {
             total += errors.len();
             names.push(label.clone());
@@ -341,7 +353,10 @@ fn cannot_run(
     if total == 0 {
         return None;
     }
-    let offset = db::item_offsets(db, file).get(item as usize).copied().unwrap_or_default();
+    let offset = db::item_offsets(db, file)
+        .get(item as usize)
+        .copied()
+        .unwrap_or_default();
     let range = test
         .name()
         .and_then(|n| n.token())

@@ -76,14 +76,39 @@ pub(crate) enum PathTarget {
     /// A global symbol (index into [`GlobalIndex::symbols`]) and its address.
     Symbol(usize, Option<Address>),
     /// A variable of instance `instance` of run group `group`.
-    InstVar { group: usize, instance: usize, var: VarIdx },
-    InstState { group: usize, instance: usize, previous: bool },
-    ChartState { chart: usize },
-    ChartVar { chart: usize, var: usize },
-    Step { chart: usize, sequencer: usize, step: usize, member: StepMember },
+    InstVar {
+        group: usize,
+        instance: usize,
+        var: VarIdx,
+    },
+    InstState {
+        group: usize,
+        instance: usize,
+        previous: bool,
+    },
+    ChartState {
+        chart: usize,
+    },
+    ChartVar {
+        chart: usize,
+        var: usize,
+    },
+    Step {
+        chart: usize,
+        sequencer: usize,
+        step: usize,
+        member: StepMember,
+    },
     /// `Block.Param`: the block's key and canonical name, the formal as written.
-    Stub { key: String, name: String, param: String },
-    Calls { key: String, name: String },
+    Stub {
+        key: String,
+        name: String,
+        param: String,
+    },
+    Calls {
+        key: String,
+        name: String,
+    },
     /// An external reference of a chart of the run list (upper-case text).
     External(String),
 }
@@ -91,19 +116,46 @@ pub(crate) enum PathTarget {
 /// What one segment of a path names (for the editor features).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum SegmentDef {
-    Symbol { name: String },
+    Symbol {
+        name: String,
+    },
     Address,
-    Group { file: String, range: TextRange },
-    Instance { file: String, range: TextRange },
+    Group {
+        file: String,
+        range: TextRange,
+    },
+    Instance {
+        file: String,
+        range: TextRange,
+    },
     /// A declared variable of a graph (its declaration's name).
-    GraphVariable { file: String, range: TextRange },
+    GraphVariable {
+        file: String,
+        range: TextRange,
+    },
     /// A predefined variable, by canonical name.
-    Predefined { name: &'static str },
-    Chart { file: String, range: TextRange },
-    ChartVariable { file: String, range: TextRange },
-    Sequencer { file: String, range: TextRange },
-    Step { file: String, range: TextRange },
-    Block { name: String },
+    Predefined {
+        name: &'static str,
+    },
+    Chart {
+        file: String,
+        range: TextRange,
+    },
+    ChartVariable {
+        file: String,
+        range: TextRange,
+    },
+    Sequencer {
+        file: String,
+        range: TextRange,
+    },
+    Step {
+        file: String,
+        range: TextRange,
+    },
+    Block {
+        name: String,
+    },
     /// `state previous calls X T error`, a formal of a block, or an external reference.
     Member,
 }
@@ -127,9 +179,18 @@ pub(crate) struct Resolution {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) enum PathError {
     /// HG9101, at `range`, with candidates for a closest-name fix.
-    Unresolved { range: TextRange, message: String, written: String, candidates: Vec<String> },
+    Unresolved {
+        range: TextRange,
+        message: String,
+        written: String,
+        candidates: Vec<String>,
+    },
     /// HG9102 at the segment: every full spelling that would be unambiguous.
-    Ambiguous { range: TextRange, written: String, candidates: Vec<String> },
+    Ambiguous {
+        range: TextRange,
+        written: String,
+        candidates: Vec<String>,
+    },
     /// HG9103: `{g} is not run by test {t}`, `g` the group or chart to add.
     NotRun { name: String },
 }
@@ -140,12 +201,18 @@ fn key(s: &str) -> String {
 
 impl RunScope {
     /// The scope of a run list (group and chart items, in run order).
-    pub fn build(db: &dyn salsa::Database, ws: Workspace, run: &[(ItemKind, File, u32)]) -> RunScope {
+    pub fn build(
+        db: &dyn salsa::Database,
+        ws: Workspace,
+        run: &[(ItemKind, File, u32)],
+    ) -> RunScope {
         let index = db::global_index(db, ws);
         let mut scope = RunScope::default();
         for &(kind, file, item) in run {
             let loc = ItemLoc::new(db, file, item);
-            let Some(root) = db::item_root(db, loc) else { continue };
+            let Some(root) = db::item_root(db, loc) else {
+                continue;
+            };
             match (kind, ast::Item::cast(root)) {
                 (ItemKind::Group, Some(ast::Item::Group(group))) => {
                     scope.groups.push(group_scope(index, &group, file, item));
@@ -156,7 +223,9 @@ impl RunScope {
                         if let (Some(first), Some(_)) = (segments.next(), segments.next())
                             && !first.text().eq_ignore_ascii_case("SFC")
                         {
-                            scope.externals.insert(key(&super::chart::compact(path.syntax())));
+                            scope
+                                .externals
+                                .insert(key(&super::chart::compact(path.syntax())));
                         }
                     }
                     scope.charts.push(chart_scope(&chart, file, item));
@@ -168,18 +237,26 @@ impl RunScope {
     }
 
     fn chart_named(&self, name: &str) -> Option<usize> {
-        self.charts.iter().position(|c| c.name.eq_ignore_ascii_case(name))
+        self.charts
+            .iter()
+            .position(|c| c.name.eq_ignore_ascii_case(name))
     }
 
     fn group_named(&self, name: &str) -> Option<usize> {
-        self.groups.iter().position(|g| g.name.eq_ignore_ascii_case(name))
+        self.groups
+            .iter()
+            .position(|g| g.name.eq_ignore_ascii_case(name))
     }
 
     /// Every (group, instance) of that instance name.
     fn instances_named(&self, name: &str) -> Vec<(usize, usize)> {
         let mut out = Vec::new();
         for (g, group) in self.groups.iter().enumerate() {
-            if let Some(i) = group.instances.iter().position(|i| i.name.eq_ignore_ascii_case(name)) {
+            if let Some(i) = group
+                .instances
+                .iter()
+                .position(|i| i.name.eq_ignore_ascii_case(name))
+            {
                 out.push((g, i));
             }
         }
@@ -188,7 +265,12 @@ impl RunScope {
 }
 
 /// The instances of a group as the lowering runs them.
-pub(crate) fn group_scope(index: &GlobalIndex, group: &ast::Group, file: File, item: u32) -> ScopeGroup {
+pub(crate) fn group_scope(
+    index: &GlobalIndex,
+    group: &ast::Group,
+    file: File,
+    item: u32,
+) -> ScopeGroup {
     let mut seen = HashSet::new();
     let mut instances = Vec::new();
     for node in group.instances() {
@@ -233,7 +315,9 @@ pub(crate) fn chart_scope(chart: &ast::Chart, file: File, item: u32) -> ScopeCha
     let mut sequencers = Vec::new();
     let mut seen = HashSet::new();
     for sequencer in chart.sequencers() {
-        let Some(name) = sequencer.name() else { continue };
+        let Some(name) = sequencer.name() else {
+            continue;
+        };
         let Some(token) = name.token() else { continue };
         if !seen.insert(key(&name.text())) {
             continue;
@@ -312,12 +396,11 @@ impl Resolver<'_> {
             if let Some(position) = self.index.symbol_position(&first) {
                 return Ok(self.symbol(position, first_range));
             }
-            if !quoted
-                && let Some(a) = index::read_address(&first, self.mnemonic)
-            {
+            if !quoted && let Some(a) = index::read_address(&first, self.mnemonic) {
                 return Ok(self.address(a, whole));
             }
-            let mut candidates: Vec<String> = self.index.symbols.iter().map(|s| s.name.clone()).collect();
+            let mut candidates: Vec<String> =
+                self.index.symbols.iter().map(|s| s.name.clone()).collect();
             candidates.extend(self.scope.charts.iter().map(|c| c.name.clone()));
             return Err(PathError::Unresolved {
                 range: whole,
@@ -328,9 +411,7 @@ impl Resolver<'_> {
         }
         let rest = &segments[1..];
         // `DBn.DBX…` is an address (the parser reads it as one; a NAME `DB1` is one too).
-        if !quoted
-            && let Some(a) = index::read_address(&text, self.mnemonic)
-        {
+        if !quoted && let Some(a) = index::read_address(&text, self.mnemonic) {
             return Ok(self.address(a, whole));
         }
         if !quoted {
@@ -343,7 +424,11 @@ impl Resolver<'_> {
                 let Some((inst, inst_range)) = rest.first() else {
                     return Err(self.unresolved(whole, &text, &first));
                 };
-                let Some(i) = group.instances.iter().position(|i| i.name.eq_ignore_ascii_case(inst)) else {
+                let Some(i) = group
+                    .instances
+                    .iter()
+                    .position(|i| i.name.eq_ignore_ascii_case(inst))
+                else {
                     return Err(PathError::Unresolved {
                         range: *inst_range,
                         message: format!("group {} has no variable or step '{inst}'", group.name),
@@ -370,7 +455,8 @@ impl Resolver<'_> {
                             .map(|&(g, i)| {
                                 format!(
                                     "{}.{}{tail}",
-                                    self.scope.groups[g].name, self.scope.groups[g].instances[i].name
+                                    self.scope.groups[g].name,
+                                    self.scope.groups[g].instances[i].name
                                 )
                             })
                             .collect(),
@@ -391,7 +477,10 @@ impl Resolver<'_> {
             if member.eq_ignore_ascii_case("calls") {
                 return Ok(Resolution {
                     settable: Err(format!("{name}.calls counts the calls")),
-                    target: PathTarget::Calls { key: block_key, name },
+                    target: PathTarget::Calls {
+                        key: block_key,
+                        name,
+                    },
                     ty: Some(Ty::Dint),
                     segments: segs,
                     not_an_output: None,
@@ -422,7 +511,10 @@ impl Resolver<'_> {
                 target: PathTarget::External(upper),
                 ty: None,
                 settable: Ok(()),
-                segments: segments.iter().map(|(_, r)| (*r, SegmentDef::Member)).collect(),
+                segments: segments
+                    .iter()
+                    .map(|(_, r)| (*r, SegmentDef::Member))
+                    .collect(),
                 not_an_output: None,
             });
         }
@@ -437,7 +529,8 @@ impl Resolver<'_> {
         if let Some(group) = self.group_with_instance(&first) {
             return Err(PathError::NotRun { name: group });
         }
-        let mut candidates: Vec<String> = self.scope.charts.iter().map(|c| c.name.clone()).collect();
+        let mut candidates: Vec<String> =
+            self.scope.charts.iter().map(|c| c.name.clone()).collect();
         candidates.extend(self.scope.groups.iter().map(|g| g.name.clone()));
         for g in &self.scope.groups {
             candidates.extend(g.instances.iter().map(|i| i.name.clone()));
@@ -461,15 +554,22 @@ impl Resolver<'_> {
 
     /// A group of the workspace (not in the run list) with an instance of that name.
     fn group_with_instance(&self, name: &str) -> Option<String> {
-        for item in self.index.items.iter().filter(|i| i.kind == ItemKind::Group) {
+        for item in self
+            .index
+            .items
+            .iter()
+            .filter(|i| i.kind == ItemKind::Group)
+        {
             let loc = ItemLoc::new(self.db, item.file, item.item);
-            let Some(ast::Item::Group(group)) = db::item_root(self.db, loc).and_then(ast::Item::cast) else {
+            let Some(ast::Item::Group(group)) =
+                db::item_root(self.db, loc).and_then(ast::Item::cast)
+            else {
                 continue;
             };
-            if group
-                .instances()
-                .any(|i| i.name().is_some_and(|n| n.text().eq_ignore_ascii_case(name)))
-            {
+            if group.instances().any(|i| {
+                i.name()
+                    .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+            }) {
                 return Some(item.name.clone());
             }
         }
@@ -478,7 +578,10 @@ impl Resolver<'_> {
 
     fn address(&self, a: Address, range: TextRange) -> Resolution {
         let (ty, settable) = match a.area {
-            Area::Timer | Area::Counter => (Some(Ty::Bool), Err("a timer or counter is set by its operations".to_owned())),
+            Area::Timer | Area::Counter => (
+                Some(Ty::Bool),
+                Err("a timer or counter is set by its operations".to_owned()),
+            ),
             _ => (values::ty(a.ty()), Ok(())),
         };
         Resolution {
@@ -498,7 +601,10 @@ impl Resolver<'_> {
                 .as_ref()
                 .is_some_and(|a| matches!(a.area, Area::Timer | Area::Counter));
         let (ty, settable) = if timer {
-            (Some(Ty::Bool), Err("a timer or counter is set by its operations".to_owned()))
+            (
+                Some(Ty::Bool),
+                Err("a timer or counter is set by its operations".to_owned()),
+            )
         } else {
             (symbol.ty.and_then(values::ty), Ok(()))
         };
@@ -506,7 +612,12 @@ impl Resolver<'_> {
             target: PathTarget::Symbol(position, symbol.address.clone()),
             ty,
             settable,
-            segments: vec![(range, SegmentDef::Symbol { name: symbol.name.clone() })],
+            segments: vec![(
+                range,
+                SegmentDef::Symbol {
+                    name: symbol.name.clone(),
+                },
+            )],
             not_an_output: None,
         }
     }
@@ -543,7 +654,10 @@ impl Resolver<'_> {
         let [(member, member_range)] = rest else {
             return Err(self.unresolved(whole, text, text));
         };
-        if let Some(p) = PSEUDO_INSTANCE.iter().position(|p| p.eq_ignore_ascii_case(member)) {
+        if let Some(p) = PSEUDO_INSTANCE
+            .iter()
+            .position(|p| p.eq_ignore_ascii_case(member))
+        {
             segs.push((*member_range, SegmentDef::Member));
             return Ok(Resolution {
                 target: PathTarget::InstState {
@@ -552,7 +666,10 @@ impl Resolver<'_> {
                     previous: p == 1,
                 },
                 ty: Some(Ty::Word),
-                settable: Err(format!("{}.{member} is kept by the instance", instance.name)),
+                settable: Err(format!(
+                    "{}.{member} is kept by the instance",
+                    instance.name
+                )),
                 segments: segs,
                 not_an_output: None,
             });
@@ -566,7 +683,9 @@ impl Resolver<'_> {
             segs.push((*member_range, SegmentDef::GraphVariable { file, range }));
             let ty = var.ty.and_then(values::ty);
             let settable = match ty {
-                Some(Ty::Timer | Ty::Counter) => Err("a timer or counter is set by its operations".to_owned()),
+                Some(Ty::Timer | Ty::Counter) => {
+                    Err("a timer or counter is set by its operations".to_owned())
+                }
                 _ => Ok(()),
             };
             return Ok(Resolution {
@@ -575,7 +694,13 @@ impl Resolver<'_> {
                     instance: i,
                     var: predef_count() + v as VarIdx,
                 },
-                ty: ty.map(|t| if matches!(t, Ty::Timer | Ty::Counter) { Ty::Bool } else { t }),
+                ty: ty.map(|t| {
+                    if matches!(t, Ty::Timer | Ty::Counter) {
+                        Ty::Bool
+                    } else {
+                        t
+                    }
+                }),
                 settable,
                 segments: segs,
                 not_an_output: None,
@@ -607,7 +732,10 @@ impl Resolver<'_> {
         candidates.extend(PSEUDO_INSTANCE.iter().map(|s| (*s).to_owned()));
         Err(PathError::Unresolved {
             range: *member_range,
-            message: format!("instance {} has no variable or step '{member}'", instance.name),
+            message: format!(
+                "instance {} has no variable or step '{member}'",
+                instance.name
+            ),
             written: member.clone(),
             candidates,
         })
@@ -646,7 +774,10 @@ impl Resolver<'_> {
             });
         }
         if rest.len() == 1
-            && let Some(v) = chart.vars.iter().position(|v| v.0.eq_ignore_ascii_case(name))
+            && let Some(v) = chart
+                .vars
+                .iter()
+                .position(|v| v.0.eq_ignore_ascii_case(name))
         {
             let (file, range) = self.loc(chart.file, chart.item, chart.vars[v].1);
             segs.push((*name_range, SegmentDef::ChartVariable { file, range }));
@@ -666,7 +797,8 @@ impl Resolver<'_> {
             .filter(|_| rest.len() >= 2);
         let (candidates, step_rest): (Vec<(usize, usize)>, &[(String, TextRange)]) = match seq {
             Some(s) => {
-                let (file, range) = self.loc(chart.file, chart.item, chart.sequencers[s].name_range);
+                let (file, range) =
+                    self.loc(chart.file, chart.item, chart.sequencers[s].name_range);
                 segs.push((*name_range, SegmentDef::Sequencer { file, range }));
                 let (step, _) = &rest[1];
                 let found = chart.sequencers[s]
@@ -703,7 +835,8 @@ impl Resolver<'_> {
         };
         match candidates.as_slice() {
             [(s, p)] if step_rest.len() <= 2 && member.is_some() => {
-                let (file, range) = self.loc(chart.file, chart.item, chart.sequencers[*s].steps[*p].1);
+                let (file, range) =
+                    self.loc(chart.file, chart.item, chart.sequencers[*s].steps[*p].1);
                 segs.push((*step_range, SegmentDef::Step { file, range }));
                 if let Some((_, r)) = step_rest.get(1) {
                     segs.push((*r, SegmentDef::Member));
@@ -716,14 +849,21 @@ impl Resolver<'_> {
                         step: *p,
                         member,
                     },
-                    ty: Some(if member == StepMember::Time { Ty::Time } else { Ty::Bool }),
+                    ty: Some(if member == StepMember::Time {
+                        Ty::Time
+                    } else {
+                        Ty::Bool
+                    }),
                     settable: Err(format!("{text} is kept by the chart")),
                     segments: segs,
                     not_an_output: None,
                 })
             }
             [_, _, ..] => {
-                let tail: String = step_rest[1..].iter().map(|(s, _)| format!(".{s}")).collect();
+                let tail: String = step_rest[1..]
+                    .iter()
+                    .map(|(s, _)| format!(".{s}"))
+                    .collect();
                 Err(PathError::Ambiguous {
                     range: *step_range,
                     written: step_name.clone(),
@@ -732,7 +872,9 @@ impl Resolver<'_> {
                         .map(|&(s, p)| {
                             format!(
                                 "{}.{}.{}{tail}",
-                                chart.name, chart.sequencers[s].name, chart.sequencers[s].steps[p].0
+                                chart.name,
+                                chart.sequencers[s].name,
+                                chart.sequencers[s].steps[p].0
                             )
                         })
                         .collect(),
@@ -775,21 +917,27 @@ impl Resolver<'_> {
         for entry in &self.index.block_interfaces {
             let reference = entry.reference.trim();
             let reference = ast::unquote(reference);
-            let same = block_key(self.index, reference, self.mnemonic).is_some_and(|(k, _)| k == wanted)
+            let same = block_key(self.index, reference, self.mnemonic)
+                .is_some_and(|(k, _)| k == wanted)
                 || reference.eq_ignore_ascii_case(written);
             if !same {
                 continue;
             }
             let loc = ItemLoc::new(self.db, entry.file, entry.item);
-            let Some(ast::Item::BlockInterface(interface)) = db::item_root(self.db, loc).and_then(ast::Item::cast) else {
+            let Some(ast::Item::BlockInterface(interface)) =
+                db::item_root(self.db, loc).and_then(ast::Item::cast)
+            else {
                 return Formal::Unknown;
             };
             for (section, decl) in crate::rules::decls::declarations(interface.var_sections()) {
-                if decl.name().is_some_and(|n| n.text().eq_ignore_ascii_case(param)) {
+                if decl
+                    .name()
+                    .is_some_and(|n| n.text().eq_ignore_ascii_case(param))
+                {
                     return match section {
-                        Section::Out | Section::InOut => {
-                            Formal::Output(decl.ty().and_then(|t| index::declared_type_in(&t, true)))
-                        }
+                        Section::Out | Section::InOut => Formal::Output(
+                            decl.ty().and_then(|t| index::declared_type_in(&t, true)),
+                        ),
                         _ => Formal::NotAnOutput,
                     };
                 }
@@ -812,7 +960,11 @@ fn predef_count() -> VarIdx {
 
 /// The key and canonical name of a block written as `text` (an address with or without
 /// spaces, or a symbol name without quotes); `None` if it names no callable block.
-pub(crate) fn block_key(index: &GlobalIndex, text: &str, mnemonic: Mnemonic) -> Option<(String, String)> {
+pub(crate) fn block_key(
+    index: &GlobalIndex,
+    text: &str,
+    mnemonic: Mnemonic,
+) -> Option<(String, String)> {
     let compact: String = text.split_whitespace().collect();
     if let Some(address) = index::read_address(&compact, mnemonic)
         && address.block_kind().is_some_and(|k| k.is_callable())
@@ -848,7 +1000,9 @@ pub(crate) fn run_list(
     };
     let mut out: Vec<(ItemKind, File, u32)> = Vec::new();
     for entry in run.entries() {
-        let Some(item) = index.item(&entry.text()) else { continue };
+        let Some(item) = index.item(&entry.text()) else {
+            continue;
+        };
         if !matches!(item.kind, ItemKind::Group | ItemKind::Chart)
             || (item.kind == ItemKind::Chart && is_chart_type(db, item.file, item.item))
         {
@@ -887,4 +1041,3 @@ fn is_chart_type(db: &dyn salsa::Database, file: File, item: u32) -> bool {
         Some(ast::Item::Chart(c)) if c.is_type()
     )
 }
-

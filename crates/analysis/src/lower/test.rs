@@ -45,6 +45,8 @@ pub(crate) struct TestWalker<'r, 'p, 'a> {
     pub run_insert: Option<TextSize>,
     /// Δ in ms.
     pub cycle_ms: u32,
+    /// The global symbols the test's paths name (HG6004).
+    pub used_symbols: Vec<String>,
 }
 
 /// An expression's type while it is walked.
@@ -91,6 +93,7 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             watching: false,
             run_insert: run_insert(test),
             cycle_ms: cycle_ms(test),
+            used_symbols: Vec::new(),
         }
     }
 
@@ -103,7 +106,13 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
         self.diags.push(diag);
     }
 
-    fn closest_fix(&self, diag: Diag, range: TextRange, written: &str, candidates: &[String]) -> Diag {
+    fn closest_fix(
+        &self,
+        diag: Diag,
+        range: TextRange,
+        written: &str,
+        candidates: &[String],
+    ) -> Diag {
         match crate::closest::closest(written, candidates.iter().map(String::as_str)) {
             Some(best) => diag
                 .fix(format!("Replace with '{best}'"), self.loc(range), best)
@@ -170,6 +179,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
     fn resolve(&mut self, path: &ast::TestPath) -> Option<Resolution> {
         match self.r.resolve(path) {
             Ok(resolution) => {
+                if let PathTarget::Symbol(position, _) = &resolution.target
+                    && let Some(symbol) = self.r.index.symbols.get(*position)
+                {
+                    self.used_symbols.push(symbol.name.clone());
+                }
                 if let Some((block, param, range)) = &resolution.not_an_output {
                     let diag = Diag::new(
                         "HG9111",
@@ -405,7 +419,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             (ETy::Known(a), ETy::Known(c)) => (a, c),
             (ETy::Known(a), ETy::IntLit) => (a, Ty::Dint),
             (ETy::IntLit, ETy::Known(c)) => (Ty::Dint, c),
-            _ => return l.zip(r).map(|(l, r)| Expr::Cmp(cmp, Box::new(l), Box::new(r))),
+            _ => {
+                return l
+                    .zip(r)
+                    .map(|(l, r)| Expr::Cmp(cmp, Box::new(l), Box::new(r)));
+            }
         };
         let same = a == c || matches!((a, c), (Ty::String(_), Ty::String(_)));
         if !same {
@@ -422,7 +440,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             } else {
                 ty_name(a)
             };
-            self.push("HG9107", range, format!("'{op}' is not defined for {shown}"));
+            self.push(
+                "HG9107",
+                range,
+                format!("'{op}' is not defined for {shown}"),
+            );
             return None;
         }
         l.zip(r)
@@ -687,7 +709,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
 }
 
 /// The test of a program whose run list is lowered already.
-pub(crate) fn lower(walker: &mut TestWalker<'_, '_, '_>, test: &ast::Test, run: Vec<RunEntry>) -> Test {
+pub(crate) fn lower(
+    walker: &mut TestWalker<'_, '_, '_>,
+    test: &ast::Test,
+    run: Vec<RunEntry>,
+) -> Test {
     let stmts = walker.statements(test);
     let origin_range = test
         .name()
@@ -719,10 +745,12 @@ fn cycle_ms(test: &ast::Test) -> u32 {
             ast::TestStmt::Cycle(cycle) => cycle.time(),
             _ => None,
         })
-        .and_then(|t| match literal::check_literal(&t.text()).map(|l| l.value) {
-            Ok(LiteralValue::Duration { millis }) => u32::try_from(millis).ok(),
-            _ => None,
-        })
+        .and_then(
+            |t| match literal::check_literal(&t.text()).map(|l| l.value) {
+                Ok(LiteralValue::Duration { millis }) => u32::try_from(millis).ok(),
+                _ => None,
+            },
+        )
         .filter(|&ms| ms > 0)
         .unwrap_or(10)
 }
