@@ -50,7 +50,6 @@ const DRILLING_TEST: &str = r#"test Bohrzyklus "one drilling cycle from the home
   run Bohrmaschine;
   set Bohrer_Oben := TRUE;
   set Bohrmotor_Steht := TRUE;
-  set Betrieb_Auto := TRUE;
   step 3;
   expect Bohren.state = 1 "coordinator in its home position";
   expect Vorschub.state = 1 and Bohrmotor.state = 1 and Spanneinrichtung.state = 1;

@@ -27,10 +27,7 @@ fn dir_names(dir: &Path) -> BTreeSet<String> {
 /// Codes registered and documented whose fixtures other parts of the work add: the test
 /// paths, values and types (HG91xx) come with the lowering, the results (HG99xx, run through
 /// `higraph-lsp test`) with the runner. Remove a code here when its fixtures land.
-const FIXTURES_PENDING: &[&str] = &[
-    "HG9101", "HG9102", "HG9103", "HG9104", "HG9105", "HG9106", "HG9107", "HG9108", "HG9109",
-    "HG9110", "HG9111", "HG9901", "HG9902", "HG9903", "HG9904",
-];
+const FIXTURES_PENDING: &[&str] = &["HG9901", "HG9902", "HG9903", "HG9904"];
 
 /// Codes that have both a failing and a passing fixture.
 fn fixture_codes() -> BTreeSet<String> {

@@ -392,9 +392,12 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
         let range = b.syntax().text_range();
         let lt = self.static_ty(lhs);
         let rt = self.static_ty(rhs);
-        // `Chart.state = Name`.
-        let state_left = lt == ETy::Known(Ty::OpState);
-        if state_left || rt == ETy::Known(Ty::OpState) {
+        // `Chart.state = Name` (also when `Chart.state` did not resolve: the name is then no
+        // path of its own).
+        let state = ETy::Known(Ty::OpState);
+        let state_left = lt == state || (lt == ETy::Unknown && self.is_state_name(rhs));
+        let state_right = rt == state || (rt == ETy::Unknown && self.is_state_name(lhs));
+        if state_left || state_right {
             let (state_side, other) = if state_left { (lhs, rhs) } else { (rhs, lhs) };
             if !matches!(op, "=" | "<>") {
                 self.push(
@@ -449,6 +452,21 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
         }
         l.zip(r)
             .map(|(l, r)| Expr::Cmp(cmp, Box::new(l), Box::new(r)))
+    }
+
+    /// Is the expression a bare name of an operating state that is no global symbol?
+    fn is_state_name(&self, e: &ast::Expr) -> bool {
+        match e {
+            ast::Expr::TestPath(p) if p.address().is_none() && p.symbol().is_none() => {
+                match p.segment_texts().as_slice() {
+                    [(name, _)] => {
+                        OpState::from_name(name).is_some() && self.r.index.symbol(name).is_none()
+                    }
+                    _ => false,
+                }
+            }
+            _ => false,
+        }
     }
 
     /// The operating state the other side of `Chart.state =` names (HG9108).
@@ -512,6 +530,10 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
     pub fn statements(&mut self, test: &ast::Test) -> Vec<TestStmt> {
         let mut out = Vec::new();
         for stmt in test.statements() {
+            // C1: a statement with a syntax error is not analysed.
+            if crate::rules::has_error(stmt.syntax()) {
+                continue;
+            }
             let range = crate::rules::chart::without_semi(stmt.syntax());
             let kind = match &stmt {
                 ast::TestStmt::Cycle(_) | ast::TestStmt::Run(_) => None,
