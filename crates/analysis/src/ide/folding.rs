@@ -389,6 +389,14 @@ chart C <
         "#);
     }
 
+    /// A test body folds; comparison operators inside its expressions do not.
+    #[test]
+    fn tests_fold() {
+        insta::assert_snapshot!(folds(
+            "test T \"d\" <\n  run G;\n  expect x < 5 and y <> 2 and z > 3 and\n    w >= 4;\n  until (a\n    or b) within T#1S;\n>\n"
+        ), @r#"Region 0..6 "<""#);
+    }
+
     #[test]
     fn comment_runs_need_consecutive_lines() {
         insta::assert_snapshot!(folds(

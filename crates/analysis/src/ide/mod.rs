@@ -111,6 +111,8 @@ pub enum SymbolKind {
     Step,
     ChartTransition,
     Section,
+    /// A `test` item.
+    Test,
 }
 
 /// Something to navigate to.

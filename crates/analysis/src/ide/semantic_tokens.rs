@@ -33,9 +33,14 @@
 //! | `String`             | `string`     |                           | display names and comments (`"…"`), `'…'` constants |
 //! | `Comment`            | `comment`    |                           | `// …` |
 //! | `Type`               | `type`       | `defaultLibrary`          | `BOOL`, `STRING[20]` (the length is a `Constant`) |
-//! | `Item`               | `class`      |                           | graph, group and chart names; `instance X : Graph` |
+//! | `Item`               | `class`      |                           | graph, group, chart and test names; `instance X : Graph`; groups and charts in tests |
 //! | `Instance`           | `namespace`  |                           | instance names, the `Inst` of `Inst.Msg` |
 //! | `Sequencer`          | `namespace`  |                           | sequencer names |
+//!
+//! In tests, paths are classed by their shape and the global names (the lowering resolves
+//! them fully): addresses, symbols, groups and charts, operating state names (`State`) and the
+//! pseudo-members `state`, `previous`, `calls`, `X`, `T`, `error` (`PredefinedVariable`,
+//! `readonly`); a command (`start`) is a `Keyword`.
 //!
 //! Declarations carry `declaration`. Direction modifiers: `input` for `in` (and `msg in`),
 //! `output` for `out` (and `msg out`), both for `in_out`.
@@ -446,6 +451,7 @@ impl Highlighter<'_> {
             NAME_REF => self.name_ref(node, resolver),
             VAR_REF | SYMBOL_REF => self.reference(node, resolver),
             PATH => self.path(node, resolver),
+            TEST_PATH => self.test_path(node),
             MESSAGE_TARGET => self.message_target(node, resolver),
             OPCODE | QUALIFIER => self.push_node(node, TokenKind::Opcode, 0),
             LABEL | JUMP_LABEL => self.push_node(node, TokenKind::Label, 0),
@@ -495,12 +501,14 @@ impl Highlighter<'_> {
             NUMBER => match parent {
                 Some(STATE) => (TokenKind::State, TokenModifier::Declaration.bit()),
                 Some(ENDPOINT) => (TokenKind::State, 0),
-                Some(PRIO_CLAUSE | OPTION) => (TokenKind::Constant, 0),
+                Some(PRIO_CLAUSE | OPTION | TEST_STEP) => (TokenKind::Constant, 0),
                 _ => return,
             },
             L_ANGLE | R_ANGLE | EQ | PLUS | MINUS | STAR | SLASH if parent == Some(BIN_EXPR) => {
                 (TokenKind::Operator, 0)
             }
+            // The `-` of a negative step count.
+            MINUS if parent == Some(TEST_STEP) => (TokenKind::Constant, 0),
             _ => return,
         };
         self.push_token(token, kind, modifiers);
@@ -533,6 +541,7 @@ impl Highlighter<'_> {
             SEQUENCER => (TokenKind::Sequencer, declaration),
             STEP => (TokenKind::Step, declaration),
             CHART_TRANS | JUMP | LOOP => (TokenKind::Transition, declaration),
+            TEST => (TokenKind::Item, declaration),
             _ => return,
         };
         self.push_node(node, kind, modifiers);
@@ -552,6 +561,13 @@ impl Highlighter<'_> {
             BLOCK_REF => self.index.symbol(&text).map(|_| (TokenKind::Symbol, 0)),
             ACTUAL if is_first_name_ref(&parent, node) => formal_class(&parent, &text, resolver),
             PARAM if is_first_name_ref(&parent, node) => Some((TokenKind::Parameter, 0)),
+            TEST_RUN => self.index.item(&text).map(|_| (TokenKind::Item, 0)),
+            TEST_COMMAND if is_first_name_ref(&parent, node) => {
+                self.index.item(&text).map(|_| (TokenKind::Item, 0))
+            }
+            TEST_COMMAND => {
+                higraph_runtime::program::Command::from_name(&text).map(|_| (TokenKind::Keyword, 0))
+            }
             _ => self.operand_class(node, &parent, resolver),
         };
         if let Some((kind, modifiers)) = class {
@@ -642,6 +658,51 @@ impl Highlighter<'_> {
         }
     }
 
+    /// A test path, by its shape and the workspace's global names (the full resolution of
+    /// `runtime.md` §5.3 is the lowering's): an address; a global symbol; a group or chart;
+    /// an operating state name (`Chart.state = Ready`); the pseudo-members `state`,
+    /// `previous`, `calls`, `X`, `T` and `error` after a dot. Other segments get no token.
+    fn test_path(&mut self, node: &SyntaxNode) {
+        let Some(path) = ast::TestPath::cast(node.clone()) else {
+            return;
+        };
+        if let Some(address) = path.address() {
+            self.push_node(address.syntax(), TokenKind::Address, 0);
+            return;
+        }
+        let single = path.segment_texts().len() == 1;
+        if let Some(symbol) = path.symbol() {
+            if self.index.symbol(&symbol.name()).is_some() {
+                self.push_node(symbol.syntax(), TokenKind::Symbol, 0);
+            }
+        }
+        for (i, segment) in path.segments().enumerate() {
+            let text = segment.text();
+            let first = i == 0 && path.symbol().is_none();
+            let class = if first {
+                if self.index.symbol(&text).is_some() {
+                    Some((TokenKind::Symbol, 0))
+                } else if self.index.item(&text).is_some() {
+                    Some((TokenKind::Item, 0))
+                } else if single && higraph_runtime::program::OpState::from_name(&text).is_some() {
+                    Some((TokenKind::State, 0))
+                } else {
+                    None
+                }
+            } else if TEST_PSEUDO_MEMBERS
+                .iter()
+                .any(|m| m.eq_ignore_ascii_case(&text))
+            {
+                Some((TokenKind::PredefinedVariable, TokenModifier::Readonly.bit()))
+            } else {
+                None
+            };
+            if let Some((kind, modifiers)) = class {
+                self.push_node(segment.syntax(), kind, modifiers);
+            }
+        }
+    }
+
     /// `Inst.Msg` in an actual: the instance, and the message variable of its graph.
     fn message_target(&mut self, node: &SyntaxNode, resolver: &mut Resolver<'_>) {
         let Resolver::Group { instances, .. } = resolver else {
@@ -668,6 +729,10 @@ impl Highlighter<'_> {
         }
     }
 }
+
+/// The last segments of a test path that name no variable but a value of the machine
+/// (`runtime.md` §5.3).
+const TEST_PSEUDO_MEMBERS: &[&str] = &["state", "previous", "calls", "X", "T", "error"];
 
 /// Is `node` the first NAME_REF child of `parent` (the formal of an actual or CALL parameter)?
 fn is_first_name_ref(parent: &SyntaxNode, node: &SyntaxNode) -> bool {
@@ -898,6 +963,76 @@ symbols < Taste : E 0.0 BOOL "button"; >
         E 0.0          Address 
         BOOL           Type defaultLibrary
         "button"       String
+        "#);
+    }
+
+    #[test]
+    fn tests_highlight_keywords_names_and_paths() {
+        insta::assert_snapshot!(check(
+            r#"test Lauf "run it" <
+  cycle T#10MS;
+  run Linie, Unbekannt;
+  set Taste := TRUE;
+  set "Taste" := not E 0.1;
+  step 2;
+  expect Linie.Inst.state = 1 and Tank.state = Ready "home";
+  until Tank.S.A.X within T#1S;
+  command Tank start;
+  confirm Tank.A;
+  restart warm;
+>
+group Linie < >
+chart Tank < >
+symbols < Taste : E 0.0 BOOL; >
+"#
+        ), @r#"
+        test           Keyword 
+        Lauf           Item declaration
+        "run it"       String 
+        cycle          Keyword 
+        T#10MS         Constant 
+        run            Keyword 
+        Linie          Item 
+        set            Keyword 
+        Taste          Symbol static
+        TRUE           Constant 
+        set            Keyword 
+        "Taste"        Symbol static
+        not            Operator 
+        E 0.1          Address 
+        step           Keyword 
+        2              Constant 
+        expect         Keyword 
+        Linie          Item 
+        state          PredefinedVariable readonly defaultLibrary
+        =              Operator 
+        1              Constant 
+        and            Operator 
+        Tank           Item 
+        state          PredefinedVariable readonly defaultLibrary
+        =              Operator 
+        Ready          State 
+        "home"         String 
+        until          Keyword 
+        Tank           Item 
+        X              PredefinedVariable readonly defaultLibrary
+        within         Keyword 
+        T#1S           Constant 
+        command        Keyword 
+        Tank           Item 
+        start          Keyword 
+        confirm        Keyword 
+        Tank           Item 
+        restart        Keyword 
+        warm           Keyword 
+        group          Keyword 
+        Linie          Item declaration
+        chart          Keyword 
+        Tank           Item declaration
+        symbols        Keyword 
+        Taste          Symbol declaration static
+        E 0.0          Address 
+        BOOL           Type defaultLibrary
         "#);
     }
 

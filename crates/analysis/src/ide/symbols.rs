@@ -12,7 +12,9 @@
 //!   The steps and transitions inside `parallel` and `alt` branches are listed in text order
 //!   under their sequencer, as if the branches were flat;
 //! * symbols › symbol;
-//! * block interface › sections › variables.
+//! * block interface › sections › variables;
+//! * test (no children: its statements are steps of a procedure, not declarations), with its
+//!   description as detail.
 //!
 //! Names: a state is `3 "Unten"` (number and display name, or just the number); a
 //! transition is `1->2` as its endpoints are written, with its display name if it has one
@@ -20,7 +22,7 @@
 //! `J1 -> START`.
 //!
 //! Workspace symbols are the graphs, groups, charts, global symbols (declared and imported),
-//! instances, states and steps of the workspace. Names of nested symbols are qualified by
+//! instances, states, steps and tests of the workspace. Names of nested symbols are qualified by
 //! their container, `.`-separated: `Bohrmaschine.Vorschub` (instance), `Ventil_2E.3 "Unten"`
 //! (state), `Mischer.RUN.HEIZEN` (step). A symbol matches a query when the query's characters
 //! appear in its qualified name in order, ignoring case; the best matches come first: an exact
@@ -151,7 +153,7 @@ pub(crate) fn item_outline<'db>(
         ast::Item::Chart(chart) => Some(chart_outline(&chart)),
         ast::Item::Symbols(table) => Some(symbols_outline(&table)),
         ast::Item::BlockInterface(interface) => Some(interface_outline(&interface)),
-        ast::Item::Test(_) => None,
+        ast::Item::Test(test) => Some(test_outline(&test)),
         ast::Item::Mnemonic(_) => None,
     }
 }
@@ -176,6 +178,12 @@ fn named(node: &SyntaxNode, name: Option<ast::Name>) -> (String, TextRange) {
         Some((text, range)) => (text, range),
         None => (String::new(), keyword_range(node)),
     }
+}
+
+fn test_outline(test: &ast::Test) -> DocumentSymbol {
+    let (name, focus) = named(test.syntax(), test.name());
+    DocumentSymbol::new(name, SymbolKind::Test, test.syntax(), focus)
+        .detail(test.comment().map(|c| c.value()))
 }
 
 fn graph_outline(graph: &ast::Graph) -> DocumentSymbol {
@@ -535,6 +543,7 @@ fn collect(
             | SymbolKind::Instance
             | SymbolKind::State
             | SymbolKind::Step
+            | SymbolKind::Test
     );
     let nested = matches!(
         symbol.kind,
@@ -819,6 +828,16 @@ Chart Vorlage · chart type [Vorlage]
   Section in [in]
     Variable X · BOOL [X]
 "#);
+    }
+
+    #[test]
+    fn tests_are_symbols() {
+        let text = "//- t.higraph\n$0test Bohrzyklus \"one drilling cycle\" <\n  run Bohrmaschine;\n  step;\n  expect Lampe;\n>\ntest Leer < >\n";
+        insta::assert_snapshot!(outline(text), @r#"
+Test Bohrzyklus · one drilling cycle [Bohrzyklus]
+Test Leer [Leer]
+"#);
+        insta::assert_snapshot!(search(text, "bohr"), @"Test Bohrzyklus (t.higraph: Bohrzyklus)");
     }
 
     #[test]

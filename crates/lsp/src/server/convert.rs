@@ -173,6 +173,8 @@ pub(crate) fn symbol_kind(kind: SymbolKind) -> lsp::SymbolKind {
         SymbolKind::Instance => lsp::SymbolKind::OBJECT,
         SymbolKind::Sequencer => lsp::SymbolKind::STRUCT,
         SymbolKind::Section => lsp::SymbolKind::NAMESPACE,
+        // Something one runs: a method, not a class (Event is taken by messages).
+        SymbolKind::Test => lsp::SymbolKind::METHOD,
     }
 }
 
