@@ -276,19 +276,26 @@ impl Machine {
         }
         let a = self.area(area);
         let b = byte as usize;
-        if b + len as usize <= a.len() {
-            let mut v = 0u32;
-            for i in 0..len as usize {
-                v = (v << 8) | a[b + i] as u32;
+        // Fast paths: the bytes exist.
+        match len {
+            1 => return Ok(a.get(b).copied().unwrap_or(0) as u32),
+            2 => {
+                if let Some(&[h, l]) = a.get(b..b + 2) {
+                    return Ok(u16::from_be_bytes([h, l]) as u32);
+                }
             }
-            Ok(v)
-        } else {
-            let mut v = 0u32;
-            for i in 0..len as usize {
-                v = (v << 8) | a.get(b + i).copied().unwrap_or(0) as u32;
+            4 => {
+                if let Some(&[x0, x1, x2, x3]) = a.get(b..b + 4) {
+                    return Ok(u32::from_be_bytes([x0, x1, x2, x3]));
+                }
             }
-            Ok(v)
+            _ => {}
         }
+        let mut v = 0u32;
+        for i in 0..len as usize {
+            v = (v << 8) | a.get(b + i).copied().unwrap_or(0) as u32;
+        }
+        Ok(v)
     }
 
     /// Writes the low `len` (1..=4) bytes of `bits` big-endian.
@@ -305,8 +312,15 @@ impl Machine {
         }
         let b = byte as usize;
         let a = self.area_mut(area, b + len as usize);
-        for i in 0..len as usize {
-            a[b + i] = (bits >> (8 * (len as usize - 1 - i))) as u8;
+        match len {
+            1 => a[b] = bits as u8,
+            2 => a[b..b + 2].copy_from_slice(&(bits as u16).to_be_bytes()),
+            4 => a[b..b + 4].copy_from_slice(&bits.to_be_bytes()),
+            _ => {
+                for i in 0..len as usize {
+                    a[b + i] = (bits >> (8 * (len as usize - 1 - i))) as u8;
+                }
+            }
         }
         Ok(())
     }

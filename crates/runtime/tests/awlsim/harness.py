@@ -13,9 +13,11 @@ floating-point seconds Awlsim adds up. Cases our interpreter ends with a fault r
 must raise an Awlsim error at the same instruction.
 
 Comparison modes per instruction (set by the generator): 0 exact; 1 ACCU1 compared as
-"is NaN" when ours is NaN; 2 a deviation of §9.2 (or one listed in the report) happens here:
-the rest of the case is not compared; 3 `L T`/`LC T`: one base unit apart is equal;
-4 REAL function results within 2 ulp.
+"is NaN" when ours is NaN; 2 a deviation of §9.2 (or one listed in the report) that changes
+hidden state happens here: the rest of the case is not compared; 3 `L T`/`LC T`: one base unit
+apart is equal; 4 REAL function results within 2 ulp; 6 a known deviation in the registers
+only: memory is compared, Awlsim takes our ACCU1, ACCU2 and status word, and the comparison
+goes on. A tolerated difference never carries on: Awlsim's accumulators take our values.
 
 Exit status 0 when everything agrees; 1 with the first difference printed.
 """
@@ -101,6 +103,7 @@ class Runner:
         self.stopped = set()
         self.compared = 0
         self.excluded = 0
+        self.excluded_insns = 0
         self.last_ip = -1
 
     def _update_timestamp(self, *args):
@@ -186,8 +189,18 @@ class Runner:
             self.excluded += 1
             return
         cpu = self.cpu
-        g1, g2, gsw = cpu.accu1.get(), cpu.accu2.get(), cpu.statusWord.getWord()
         gbytes = "".join("%02x" % self.area(a)[b] for a, b in c["touched"])
+        if mode == 6:
+            # a known register-only difference: Awlsim takes our registers
+            self.excluded_insns += 1
+            if gbytes != hexbytes:
+                g = (cpu.accu1.get(), cpu.accu2.get(), cpu.statusWord.getWord(), gbytes)
+                raise Mismatch(self.describe(c, ii, (a1, a2, sw, hexbytes), g))
+            cpu.accu1.set(a1)
+            cpu.accu2.set(a2)
+            cpu.statusWord.setWord(sw)
+            return
+        g1, g2, gsw = cpu.accu1.get(), cpu.accu2.get(), cpu.statusWord.getWord()
         ok1 = g1 == a1 or (a1 == 0xFFFFFFFF and is_nan(g1))
         ok2 = g2 == a2 or (a2 == 0xFFFFFFFF and is_nan(g2))
         if not ok1 and mode == 1 and is_nan(a1):
@@ -311,12 +324,12 @@ def main():
         return run_bench(bench)
     families = {}
     pending = []
-    compared = excluded = 0
+    compared = excluded = freed = 0
     cases_total = 0
     start = time.time()
 
     def flush(group):
-        nonlocal compared, excluded
+        nonlocal compared, excluded, freed
         if not group:
             return
         try:
@@ -339,6 +352,7 @@ def main():
                            % (c["id"], ii + 1, e, "\n  ".join(c["code"])))
         compared += r.compared
         excluded += r.excluded
+        freed += r.excluded_insns
 
     try:
         with open(path) as fh:
@@ -350,6 +364,7 @@ def main():
                     r = run_alone(c)
                     compared += r.compared
                     excluded += r.excluded
+                    freed += r.excluded_insns
                     continue
                 # cases of one batch must agree on the number of cycles
                 if pending and len(pending[0]["stim"]) != len(c["stim"]):
@@ -364,10 +379,10 @@ def main():
         print(str(m))
         print("awlsim-diff: FAILED after %d cases" % cases_total)
         return 1
-    print("awlsim-diff: %d cases agree (%s); %d instruction states compared, "
-          "%d cases cut short by a known deviation; %.1f s"
+    print("awlsim-diff: %d cases agree (%s); %d instruction states compared, %d with a "
+          "known register deviation, %d cases cut short by a known deviation; %.1f s"
           % (cases_total, ", ".join("%s %d" % kv for kv in sorted(families.items())),
-             compared, excluded, time.time() - start))
+             compared, freed, excluded, time.time() - start))
     return 0
 
 
@@ -390,13 +405,13 @@ def run_bench(path):
     sim.load(parser.getParseTree())
     sim.build()
     sim.startup()
-    n = 3000
-    t = time.time()
+    n = 20000
+    t = time.process_time()
     for _ in range(n):
         sim.runCycle()
-    s = time.time() - t
+    s = time.process_time() - t
     total = n * (len(code) + 1)
-    print('{"instructions": %d, "seconds": %.4f, "per_second": %.0f}' % (total, s, total / s))
+    print('{"instructions": %d, "cpu_seconds": %.4f, "per_second": %.0f}' % (total, s, total / s))
     return 0
 
 
