@@ -180,6 +180,8 @@ fn the_lens_runs_a_test_whose_failures_are_published_until_an_edit() {
     );
 
     // Running it again replaces its failures (one HG9901, not two).
+    server.drain(Duration::from_millis(200));
+    server.notifications.clear();
     run_test(&mut server, &uri, "Falsch").expect("the test runs again");
     let again = wait_for_publication(&mut server, &uri, "HG9901 published again", |d| {
         d.iter().any(|d| d["code"] == "HG9901")
@@ -191,6 +193,8 @@ fn the_lens_runs_a_test_whose_failures_are_published_until_an_edit() {
     );
 
     // An edit of any workspace file removes them, and the lenses forget the results.
+    server.drain(Duration::from_millis(200));
+    server.notifications.clear();
     let other = tree.uri("anlage.higraph");
     let anlage = std::fs::read_to_string(tree.path().join("anlage.higraph")).expect("read");
     server.notify(

@@ -355,9 +355,6 @@ impl World {
             while let Ok(task) = inbox.try_recv() {
                 self.handle_guarded(task);
             }
-            if self.tested != self.generation {
-                self.forget_test_runs();
-            }
             if self.analysed != self.revision {
                 self.start_diagnostics();
             }
@@ -370,6 +367,10 @@ impl World {
         if let Err(payload) = outcome {
             let message = super::panic_message(payload.as_ref());
             self.log(MessageType::ERROR, format!("internal error: {message}"));
+        }
+        // At once, so that a snapshot taken right after a change no longer sees the runs.
+        if self.tested != self.generation {
+            self.forget_test_runs();
         }
     }
 
