@@ -65,13 +65,18 @@ impl LoweredTest {
     }
 }
 
-/// The test items of a file: (item index, test node).
+/// The test items of a file: (item index, test node). Each node is the root of its own tree,
+/// so its ranges are item-relative like every item's (callers add the item's offset).
 fn file_tests(db: &dyn salsa::Database, file: File) -> Vec<(u32, ast::Test)> {
     db::item_nodes(db::parse(db, file))
         .enumerate()
-        .filter_map(|(i, node)| match ast::Item::cast(node) {
-            Some(ast::Item::Test(test)) => Some((i as u32, test)),
-            _ => None,
+        .filter_map(|(i, node)| {
+            match ast::Item::cast(higraph_syntax::SyntaxNode::new_root(
+                node.green().to_owned(),
+            )) {
+                Some(ast::Item::Test(test)) => Some((i as u32, test)),
+                _ => None,
+            }
         })
         .collect()
 }
