@@ -736,8 +736,8 @@ impl Resolver<'_> {
         Err(PathError::Unresolved {
             range: *member_range,
             message: format!(
-                "instance {} has no variable or step '{member}'",
-                instance.name
+                "{} has no variable or step '{member}'",
+                scope.map_or_else(|| format!("instance {}", instance.name), |s| s.owner())
             ),
             written: member.clone(),
             candidates,
