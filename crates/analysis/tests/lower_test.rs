@@ -482,3 +482,26 @@ test Wege <
     );
     assert_eq!(run(&host, "main.higraph", "Wege"), Vec::<String>::new());
 }
+
+/// `CALL` stubs (§3.11): a test sets `Block.Param`, the call writes it to its actual, and
+/// `Block.calls` counts; a symbol and the block's address name the same block.
+#[test]
+fn call_stubs_pass() {
+    let host = host(
+        r#"symbols < Dosieren : FC 10; Fertig_Bit : M 1.0; >
+block Dosieren < in < Menge : INT; > out < Fertig : BOOL; Rest : INT; > >
+graph G <
+  state 0 < C: CALL Dosieren (Menge := 5, Fertig := Fertig_Bit, Rest := MW 4); >
+  trans any->0 < U INIT_SD; >
+>
+group Gr fc FC 1 db DB 1 < instance I : G < > >
+test Stubs <
+  set Dosieren.Fertig := TRUE;
+  set FC10.Rest := 42;
+  step 2;
+  expect Fertig_Bit and MW 4 = 42 and Dosieren.calls = 2 and FC10.calls = 2;
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "Stubs"), Vec::<String>::new());
+}
