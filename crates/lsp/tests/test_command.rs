@@ -270,3 +270,22 @@ fn traces_never_replace_other_files() {
     // Nothing ran: no other trace was written either.
     assert!(!Path::new(&tree.path().join("out/Lampe_Falsch.json")).exists());
 }
+
+#[test]
+fn failures_of_a_later_test_in_a_file_point_into_it() {
+    let tree = workspace();
+    tree.file("tests/both.higraph", format!("{LAMPE_AN}{LAMPE_FALSCH}"));
+    let run = test(&tree, &["tests/both.higraph", "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    let second = &json["tests"][1];
+    assert_eq!(second["name"], "Lampe_Falsch");
+    // The second test starts on line 7 (0-based), its `expect Lampe` on line 9.
+    assert_eq!(
+        second["range"]["start"],
+        serde_json::json!({"line": 7, "character": 5})
+    );
+    assert_eq!(
+        second["failures"][0]["range"]["start"],
+        serde_json::json!({"line": 9, "character": 9})
+    );
+}

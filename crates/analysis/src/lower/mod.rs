@@ -21,7 +21,7 @@ use std::collections::HashMap;
 
 use higraph_runtime::Program;
 use higraph_runtime::program::{Origin, RunEntry};
-use higraph_syntax::{TextSize, ast, ast::AstNode};
+use higraph_syntax::{SyntaxNode, TextSize, ast, ast::AstNode};
 
 use crate::db::{self, File, ItemKind, ItemLoc, Workspace};
 use crate::diag::Diag;
@@ -65,13 +65,16 @@ impl LoweredTest {
     }
 }
 
-/// The test items of a file: (item index, test node).
+/// The test items of a file: (item index, test node). Each node is the root of its own tree,
+/// so its ranges are item-relative like every `Loc` (callers add the item's offset).
 fn file_tests(db: &dyn salsa::Database, file: File) -> Vec<(u32, ast::Test)> {
     db::item_nodes(db::parse(db, file))
         .enumerate()
-        .filter_map(|(i, node)| match ast::Item::cast(node) {
-            Some(ast::Item::Test(test)) => Some((i as u32, test)),
-            _ => None,
+        .filter_map(|(i, node)| {
+            match ast::Item::cast(SyntaxNode::new_root(node.green().to_owned())) {
+                Some(ast::Item::Test(test)) => Some((i as u32, test)),
+                _ => None,
+            }
         })
         .collect()
 }
