@@ -289,3 +289,107 @@ fn failures_of_a_later_test_in_a_file_point_into_it() {
         serde_json::json!({"line": 9, "character": 9})
     );
 }
+
+// ------------------------------------------------------------------ the examples of the spec
+
+/// A temporary copy of `tests/fixtures/runtime/{name}`, with `replace` applied to its files.
+fn fixture(name: &str, replace: Option<(&str, &str)>) -> TempTree {
+    let tree = TempTree::new();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/runtime")
+        .join(name);
+    for entry in std::fs::read_dir(&dir).expect("the fixture") {
+        let entry = entry.expect("an entry");
+        let mut text = std::fs::read_to_string(entry.path()).expect("a fixture file");
+        if let Some((from, to)) = replace
+            && text.contains(from)
+        {
+            text = text.replacen(from, to, 1);
+        }
+        tree.file(&entry.file_name().to_string_lossy(), text);
+    }
+    tree
+}
+
+#[test]
+fn the_drilling_machine_test_passes() {
+    let run = test(&fixture("drilling", None), &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stdout,
+        "running 1 test\ntest Bohrzyklus ... ok (35 cycles, 350 ms)\n\n\
+         test result: ok. 1 passed; 0 failed; 0 errors; 0 filtered out\n"
+    );
+}
+
+#[test]
+fn a_changed_expectation_of_the_drilling_test_fails_where_it_should() {
+    let tree = fixture(
+        "drilling",
+        Some(("ST_CurrValue = 9800", "ST_CurrValue = 9790")),
+    );
+    let run = test(&tree, &["--format", "json"]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    let failures = &json["tests"][0]["failures"];
+    assert_eq!(failures.as_array().map(Vec::len), Some(1), "{failures:#}");
+    let f = &failures[0];
+    assert_eq!(f["code"], "HG9901");
+    assert_eq!(
+        f["message"],
+        "expect failed: remaining supervision time in ms: at cycle 28 (t = 280 ms): \
+         Vorschub.ST_CurrValue = 9800"
+    );
+    assert_eq!(
+        (f["cycle"].as_u64(), f["time_ms"].as_u64()),
+        (Some(28), Some(280))
+    );
+    assert_eq!(
+        f["values"],
+        serde_json::json!({"Vorschub.ST_CurrValue": 9800})
+    );
+}
+
+#[test]
+fn the_chart_test_with_hold_and_resume_passes() {
+    let run = test(&fixture("filling", None), &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .contains("test Abfuellen_Halten ... ok (62 cycles, 6200 ms)")
+    );
+}
+
+#[test]
+fn a_changed_expectation_of_the_chart_test_fails_like_the_spec_shows() {
+    let tree = fixture(
+        "filling",
+        Some((
+            "expect Abfuellen.state = Holding and not Ventil and Ventil_Sperre;",
+            "expect Abfuellen.state = Holding and Ventil and Ventil_Sperre;",
+        )),
+    );
+    let run = test(&tree, &[]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    insta::assert_snapshot!(run.stdout);
+}
+
+#[test]
+fn the_parallel_chart_trace_is_a_byte_snapshot() {
+    let tree = fixture("parallel", None);
+    let run = test(&tree, &["--trace", "traces"]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    let json = std::fs::read_to_string(tree.path().join("traces/E6.json")).expect("trace");
+    let value: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    assert_valid(&validator("test-trace.schema.json"), &value);
+    insta::assert_snapshot!("e6_trace_json", json);
+    let vcd_text = std::fs::read_to_string(tree.path().join("traces/E6.vcd")).expect("VCD");
+    let mut parser = vcd::Parser::new(vcd_text.as_bytes());
+    parser.parse_header().expect("VCD header");
+    for command in parser {
+        command.expect("VCD command");
+    }
+    // The version line changes with every release; the rest is pinned.
+    let pinned = vcd_text.replacen(env!("CARGO_PKG_VERSION"), "VERSION", 1);
+    insta::assert_snapshot!("e6_trace_vcd", pinned);
+}
