@@ -393,3 +393,51 @@ fn the_parallel_chart_trace_is_a_byte_snapshot() {
     let pinned = vcd_text.replacen(env!("CARGO_PKG_VERSION"), "VERSION", 1);
     insta::assert_snapshot!("e6_trace_vcd", pinned);
 }
+
+// ------------------------------------------------------------ fixtures of the result codes
+
+/// `tests/fixtures/results/HG99nn/{fail,pass}*.higraph`: each file is a workspace of its own
+/// (with the SIMATIC mnemonics) whose tests `higraph-lsp test` runs. A failing fixture must
+/// report its code (its human output is a snapshot), a passing one must pass.
+fn run_result_fixture(path: &Path) -> (String, support::Run) {
+    let code = path
+        .parent()
+        .and_then(Path::file_name)
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tree = TempTree::new();
+    tree.file("higraph.toml", "[workspace]\nmnemonic = \"simatic\"\n")
+        .file("main.higraph", std::fs::read(path).expect("the fixture"));
+    (code, test(&tree, &[]))
+}
+
+#[test]
+fn failing_result_fixtures_report_their_code() {
+    insta::glob!("fixtures/results", "HG99*/fail*.higraph", |path| {
+        let (code, run) = run_result_fixture(path);
+        assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+        assert!(
+            run.stdout.contains(&format!("error[{code}]")),
+            "{} should report {code}:\n{}",
+            path.display(),
+            run.stdout
+        );
+        insta::assert_snapshot!(run.stdout);
+    });
+}
+
+#[test]
+fn passing_result_fixtures_pass() {
+    insta::glob!("fixtures/results", "HG99*/pass*.higraph", |path| {
+        let (code, run) = run_result_fixture(path);
+        assert_eq!(
+            run.status,
+            0,
+            "{}:\n{}{}",
+            path.display(),
+            run.stdout,
+            run.stderr
+        );
+        assert!(!run.stdout.contains(&code), "{}", run.stdout);
+    });
+}
