@@ -127,6 +127,17 @@ fn tests_that_cannot_run_are_errors() {
         serde_json::json!({"start": {"line": 0, "character": 5}, "end": {"line": 0, "character": 11}})
     );
     assert_eq!(json["summary"]["errors"], 1);
+    let junit = test(&tree, &["--filter", "kaputt", "--format", "junit"]);
+    assert_eq!(junit.status, 1);
+    assert_eq!(
+        check_junit(&junit.stdout),
+        ["testsuites", "testsuite", "testcase", "error"]
+    );
+    assert!(
+        junit
+            .stdout
+            .contains("<error type=\"HG9904\" message=\"test Kaputt cannot run")
+    );
 }
 
 fn validator(schema: &str) -> jsonschema::Validator {
@@ -159,18 +170,7 @@ fn junit_output_is_well_formed() {
     let tree = workspace();
     let run = test(&tree, &["--format", "junit"]);
     assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
-    // Well-formed XML with the elements CI reporters read.
-    let mut reader = quick_xml::Reader::from_str(&run.stdout);
-    let mut elements = Vec::new();
-    loop {
-        match reader.read_event().expect("well-formed XML") {
-            quick_xml::events::Event::Eof => break,
-            quick_xml::events::Event::Start(e) | quick_xml::events::Event::Empty(e) => {
-                elements.push(String::from_utf8_lossy(e.name().as_ref().as_ref()).into_owned());
-            }
-            _ => {}
-        }
-    }
+    let elements = check_junit(&run.stdout);
     assert_eq!(
         elements,
         [
@@ -186,6 +186,136 @@ fn junit_output_is_well_formed() {
     // Wall-clock times vary: mask them for the snapshot.
     let masked = mask_times(&run.stdout);
     insta::assert_snapshot!(masked);
+}
+
+/// Checks a JUnit report the way Jenkins' JUnit schema describes it: well-formed XML,
+/// `testsuites` › `testsuite` › `testcase` › `failure`/`error`, the required attributes
+/// (`name`, `tests`, `failures`, `errors` of a suite; `name` of a case), times as decimal
+/// seconds, and counts that agree with the cases. Besides the schema's attributes it admits
+/// the ones `runtime.md` §7 adds (`skipped` on `testsuites`, `file` and `line` on a case).
+/// Returns the element names in document order.
+fn check_junit(xml: &str) -> Vec<String> {
+    use quick_xml::events::{BytesStart, Event};
+    fn attributes(e: &BytesStart<'_>) -> Vec<(String, String)> {
+        e.attributes()
+            .map(|a| {
+                let a = a.expect("a well-formed attribute");
+                (
+                    String::from_utf8_lossy(a.key.as_ref().as_ref()).into_owned(),
+                    a.normalized_value(quick_xml::XmlVersion::Explicit1_0)
+                        .expect("an attribute value")
+                        .into_owned(),
+                )
+            })
+            .collect()
+    }
+    let allowed = |element: &str| -> (&[&str], &[&str]) {
+        match element {
+            "testsuites" => (
+                &[],
+                &["name", "time", "tests", "failures", "errors", "skipped"],
+            ),
+            "testsuite" => (
+                &["name", "tests", "failures", "errors"],
+                &["name", "tests", "failures", "errors", "time", "skipped"],
+            ),
+            "testcase" => (&["name"], &["name", "time", "classname", "file", "line"]),
+            "failure" | "error" => (&[], &["type", "message"]),
+            other => panic!("unexpected element <{other}>"),
+        }
+    };
+    let parent_of = |element: &str| match element {
+        "testsuites" => None,
+        "testsuite" => Some("testsuites"),
+        "testcase" => Some("testsuite"),
+        _ => Some("testcase"),
+    };
+    let is_time = |t: &str| {
+        let (whole, fraction) = t.split_once('.').unwrap_or((t, ""));
+        !whole.is_empty()
+            && whole
+                .chars()
+                .chain(fraction.chars())
+                .all(|c| c.is_ascii_digit())
+    };
+    let mut reader = quick_xml::Reader::from_str(xml);
+    let mut stack: Vec<String> = Vec::new();
+    let mut names = Vec::new();
+    // Per open suite: (tests, failures, errors) declared and counted.
+    let mut suite: Option<([usize; 3], [usize; 3])> = None;
+    let mut case_kinds: Vec<&str> = Vec::new();
+    loop {
+        let event = reader.read_event().expect("well-formed XML");
+        let (e, empty) = match &event {
+            Event::Eof => break,
+            Event::Start(e) => (e.clone(), false),
+            Event::Empty(e) => (e.clone(), true),
+            Event::End(e) => {
+                let name = String::from_utf8_lossy(e.name().as_ref().as_ref()).into_owned();
+                assert_eq!(stack.pop().as_deref(), Some(name.as_str()));
+                if name == "testcase" {
+                    if let Some((_, counted)) = &mut suite {
+                        counted[0] += 1;
+                        counted[1] += usize::from(case_kinds.contains(&"failure"));
+                        counted[2] += usize::from(case_kinds.contains(&"error"));
+                    }
+                    case_kinds.clear();
+                }
+                if name == "testsuite" {
+                    let (declared, counted) = suite.take().expect("an open suite");
+                    assert_eq!(declared, counted, "suite counts");
+                }
+                continue;
+            }
+            _ => continue,
+        };
+        let name = String::from_utf8_lossy(e.name().as_ref().as_ref()).into_owned();
+        assert_eq!(
+            stack.last().map(String::as_str),
+            parent_of(&name),
+            "<{name}> placed"
+        );
+        let attrs = attributes(&e);
+        let (required, permitted) = allowed(&name);
+        for r in required {
+            assert!(attrs.iter().any(|(k, _)| k == r), "<{name}> needs {r}");
+        }
+        for (k, v) in &attrs {
+            assert!(permitted.contains(&k.as_str()), "<{name}> has {k}");
+            if k == "time" {
+                assert!(is_time(v), "time {v}");
+            }
+        }
+        let number = |key: &str| {
+            attrs
+                .iter()
+                .find(|(k, _)| k == key)
+                .map_or(0, |(_, v)| v.parse().expect("a count"))
+        };
+        match name.as_str() {
+            "testsuite" => {
+                suite = Some((
+                    [number("tests"), number("failures"), number("errors")],
+                    [0; 3],
+                ));
+            }
+            "failure" => case_kinds.push("failure"),
+            "error" => case_kinds.push("error"),
+            _ => {}
+        }
+        names.push(name.clone());
+        if empty {
+            if name == "testcase"
+                && let Some((_, counted)) = &mut suite
+            {
+                counted[0] += 1;
+            }
+        } else {
+            stack.push(name);
+        }
+    }
+    assert!(stack.is_empty());
+    names
 }
 
 fn mask_times(text: &str) -> String {
