@@ -133,6 +133,49 @@ try {
   }
   check(!!svg, `"HiGraph: Show Graph Preview" shows an SVG in the webview (${svg ?? `none; webview text: ${previewText.replace(/\s+/g, ' ').trim().slice(0, 200)}`})`);
   await shot('4-preview');
+
+  // (5) the test file shows a `▶ Run test` code lens on each test header
+  await open('tests.higraph');
+  const lenses = await poll(async () => {
+    const t = await page.locator('.codelens-decoration').allInnerTexts();
+    return t.filter((x) => /Run test/.test(x)).length >= 2 ? t : null;
+  }, { tries: 60 });
+  check(!!lenses, `the test file shows the "Run test" lenses (${(lenses ?? []).join(' | ') || 'none'})`);
+  await shot('5-test-lens');
+
+  // (6) the Testing view lists the tests; running Einschalten from it passes
+  await pick('F1', '>View: Show Testing', 'Show Testing');
+  const rows = page.locator('.pane-body .monaco-list-row');
+  const fileRow = await poll(async () => {
+    const row = rows.filter({ hasText: 'tests.higraph' }).first();
+    return (await row.count()) > 0 ? row : null;
+  }, { tries: 60 });
+  check(!!fileRow, 'the Testing view lists testing/tests.higraph');
+  let testRow = rows.filter({ hasText: 'Einschalten' }).first();
+  if (fileRow && (await testRow.count()) === 0) {
+    await fileRow.click(); // expand the file
+    await page.keyboard.press('ArrowRight');
+  }
+  testRow = await poll(async () => {
+    const row = rows.filter({ hasText: 'Einschalten' }).first();
+    return (await row.count()) > 0 ? row : null;
+  }, { tries: 20 });
+  check(!!testRow, 'the Testing view lists the test Einschalten');
+  if (testRow) {
+    await testRow.hover();
+    const run = testRow.locator('.action-label[aria-label^="Run Test"], .action-label.codicon-testing-run-icon').first();
+    if ((await run.count()) > 0) await run.click();
+    else {
+      await testRow.click();
+      await pick('F1', '>Test: Run Test at Cursor', 'Run Test');
+    }
+    const passed = await poll(async () => {
+      const row = rows.filter({ hasText: 'Einschalten' }).first();
+      return (await row.locator('.codicon-testing-passed-icon').count()) > 0;
+    }, { tries: 60 });
+    check(!!passed, 'running Einschalten from the Testing view shows it passed');
+  }
+  await shot('6-testing-view');
 } catch (err) {
   failures.push(String(err));
   console.error('FAIL', err);

