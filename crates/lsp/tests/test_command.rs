@@ -571,3 +571,18 @@ fn passing_result_fixtures_pass() {
         assert!(!run.stdout.contains(&code), "{}", run.stdout);
     });
 }
+
+#[test]
+fn without_a_path_every_test_of_the_workspace_runs() {
+    let tree = workspace();
+    tree.file(
+        "oben.higraph",
+        "test Oben <\n  run Pult;\n  step;\n  expect not Lampe;\n>\n",
+    );
+    let run = tree.run("tests", &["test", "--filter", "oben"]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("test Oben ... ok"), "{}", run.stdout);
+    // From the sub-folder, a PATH selects below it.
+    let run = tree.run("tests", &["test", "an.higraph"]);
+    assert!(run.stdout.starts_with("running 1 test\n"), "{}", run.stdout);
+}

@@ -1,6 +1,7 @@
 //! `higraph-lsp test [PATH...] [--filter PATTERN] [--format human|json|junit] [--trace DIR]`
 //! (`runtime.md` §7): find the workspace as `check` does, run the `test` items of the files
-//! under the PATHs in workspace order, each on a fresh machine, and report like `cargo test`.
+//! under the PATHs (without a PATH: every test of the workspace) in workspace order, each on a
+//! fresh machine, and report like `cargo test`.
 //!
 //! * Exit status 0 when every selected test passed (also when none was selected), 1 when a
 //!   test failed or could not run, 2 for a usage error or unreadable input. Workspace
@@ -63,9 +64,12 @@ pub(crate) fn run(args: &TestArgs) -> Result<ExitCode, CliError> {
     let items = analysis
         .tests()
         .map_err(|_| CliError::new("the analysis was cancelled"))?;
+    // Without a PATH every test of the workspace runs (`runtime.md` §7: "default all"), also
+    // when the current folder is below the root.
+    let everything = args.paths.is_empty();
     let in_paths: Vec<TestItem> = items
         .into_iter()
-        .filter(|item| selected.get(&item.path).copied().unwrap_or(false))
+        .filter(|item| everything || selected.get(&item.path).copied().unwrap_or(false))
         .collect();
     let pattern = args.filter.as_deref().map(str::to_lowercase);
     let (tests, filtered): (Vec<TestItem>, Vec<TestItem>) =
