@@ -1,7 +1,6 @@
 //! The test runner with a chart (`runtime.md` §5.2): commands are queued for the next cycle,
 //! `confirm` needs an active step (else a fault), a restart puts the chart back to Ready.
 
-#[allow(dead_code)]
 mod chart_common;
 
 use chart_common::{and, chart, chart_state, cmp, k, not, seq, step, step_path, trans};
