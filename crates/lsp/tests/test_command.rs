@@ -586,3 +586,45 @@ fn without_a_path_every_test_of_the_workspace_runs() {
     let run = tree.run("tests", &["test", "an.higraph"]);
     assert!(run.stdout.starts_with("running 1 test\n"), "{}", run.stdout);
 }
+
+#[test]
+fn the_group_examples_e1_to_e5_pass() {
+    let run = test(&fixture("groups", None), &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stdout,
+        "running 5 tests\n\
+         test E1 ... ok (7 cycles, 70 ms)\n\
+         test E2 ... ok (7 cycles, 70 ms)\n\
+         test E3 ... ok (4 cycles, 40 ms)\n\
+         test E4 ... ok (11 cycles, 110 ms)\n\
+         test E5 ... ok (4 cycles, 40 ms)\n\n\
+         test result: ok. 5 passed; 0 failed; 0 errors; 0 filtered out\n"
+    );
+}
+
+#[test]
+fn a_changed_expectation_of_e4_fails_where_it_should() {
+    let tree = fixture(
+        "groups",
+        Some(("A.WT_CurrValue = 10 and", "A.WT_CurrValue = 20 and")),
+    );
+    let run = test(&tree, &["--filter", "E4", "--format", "json"]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    let f = &json["tests"][0]["failures"][0];
+    assert_eq!(f["code"], "HG9901");
+    assert_eq!(
+        f["message"],
+        "expect failed: at cycle 6 (t = 60 ms): A.state = 1, A.WT_CurrValue = 10, \
+         B.ST_CurrValue = 40"
+    );
+    assert_eq!(
+        f["range"]["start"],
+        serde_json::json!({"line": 20, "character": 9})
+    );
+    assert_eq!(
+        json["tests"][0]["failures"].as_array().map(Vec::len),
+        Some(1)
+    );
+}
