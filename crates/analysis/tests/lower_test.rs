@@ -189,6 +189,21 @@ fn test_paths_name_their_definitions() {
         segments[1].1,
         SegmentDef::Predefined { name: "ST_Expired" }
     ));
+    // Every segment of every path of the file.
+    let all = analysis
+        .test_path_segments("tests.higraph")
+        .expect("not cancelled");
+    let symbols = all
+        .iter()
+        .filter(|(_, d)| matches!(d, SegmentDef::Symbol { .. }))
+        .count();
+    assert_eq!(symbols, 7);
+    for (range, def) in &all {
+        let written = &text[usize::from(range.start())..usize::from(range.end())];
+        if let SegmentDef::Symbol { name } = def {
+            assert_eq!(written, name);
+        }
+    }
 }
 
 /// Lowers and runs a test; the failures' messages.
