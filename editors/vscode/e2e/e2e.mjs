@@ -1,10 +1,11 @@
 // Drives code-server (started by run.sh) in headless Chromium with playwright-core and checks
 // the extension end to end. Inputs come from run.sh through the environment:
-//   E2E_URL (workbench URL with ?folder=), E2E_WS (workspace), E2E_SHOTS, E2E_CACHE.
+//   E2E_URL (workbench URL with ?folder=), E2E_TEST_URL (the same for the test workspace),
+//   E2E_WS (workspace), E2E_SHOTS, E2E_CACHE.
 import { createRequire } from 'node:module';
 import { join } from 'node:path';
 
-const { E2E_URL: url, E2E_SHOTS: shots, E2E_CACHE: cache } = process.env;
+const { E2E_URL: url, E2E_TEST_URL: testUrl, E2E_SHOTS: shots, E2E_CACHE: cache } = process.env;
 const { chromium } = createRequire(join(cache, 'package.json'))('playwright-core');
 
 const failures = [];
@@ -134,7 +135,10 @@ try {
   check(!!svg, `"HiGraph: Show Graph Preview" shows an SVG in the webview (${svg ?? `none; webview text: ${previewText.replace(/\s+/g, ' ').trim().slice(0, 200)}`})`);
   await shot('4-preview');
 
-  // (5) the test file shows a `▶ Run test` code lens on each test header
+  // (5) in the test workspace, the test file shows a `▶ Run test` code lens on each test header
+  await page.goto(testUrl);
+  await page.waitForSelector('.monaco-workbench', { timeout: 60_000 });
+  await page.waitForTimeout(3000);
   await open('tests.higraph');
   const lenses = await poll(async () => {
     const t = await page.locator('.codelens-decoration').allInnerTexts();
@@ -148,7 +152,10 @@ try {
   const rows = page.locator('.pane-body .monaco-list-row');
   const fileRow = await poll(async () => {
     const row = rows.filter({ hasText: 'tests.higraph' }).first();
-    return (await row.count()) > 0 ? row : null;
+    if ((await row.count()) > 0) return row;
+    // ask the extension to list the tests again (the view's refresh action)
+    await page.locator('.action-label[aria-label^="Refresh Tests"]').first().click({ timeout: 1000 }).catch(() => {});
+    return null;
   }, { tries: 60 });
   check(!!fileRow, 'the Testing view lists testing/tests.higraph');
   let testRow = rows.filter({ hasText: 'Einschalten' }).first();
