@@ -183,6 +183,40 @@ try {
     check(!!passed, 'running Einschalten from the Testing view shows it passed');
   }
   await shot('6-testing-view');
+
+  // (7) after the run the lens shows the result (the server asks the editor to refresh lenses)
+  const refreshed = await poll(async () => {
+    const t = await page.locator('.codelens-decoration').allInnerTexts();
+    return t.some((x) => /Run test — passed/.test(x)) ? t : null;
+  }, { tries: 30 });
+  check(!!refreshed, `the lens shows the result of the run (${(refreshed ?? []).join(' | ') || 'no "passed" lens'})`);
+
+  // (8) "HiGraph: Play Test Trace" with the cursor in test Einschalten plays its trace in the
+  // preview: at cycle 2 the instance box of Flur is highlighted
+  await editorLines.click();
+  await page.keyboard.press('Control+G');
+  await page.keyboard.type('5');
+  await page.keyboard.press('Enter');
+  await pick('F1', '>HiGraph: Play Test Trace', 'Play Test Trace');
+  const played = await poll(async () => {
+    for (const frame of page.frames()) {
+      const found = await frame
+        .evaluate(() => {
+          const slider = document.getElementById('cycle');
+          if (!slider || !document.querySelector('.picture svg')) return null;
+          slider.value = '2';
+          slider.dispatchEvent(new Event('input'));
+          const lit = document.querySelectorAll('.picture [data-instance].active, .picture [data-instance].fired');
+          const label = document.getElementById('label')?.textContent ?? '';
+          return lit.length > 0 ? `${lit.length} instance(s) lit at "${label}"` : null;
+        })
+        .catch(() => null);
+      if (found) return found;
+    }
+    return null;
+  }, { tries: 40 });
+  check(!!played, `"HiGraph: Play Test Trace" highlights the group's instance cycle by cycle (${played ?? 'nothing highlighted'})`);
+  await shot('7-trace-player');
 } catch (err) {
   failures.push(String(err));
   console.error('FAIL', err);
