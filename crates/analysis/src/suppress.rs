@@ -135,7 +135,7 @@ mod tests {
 
     #[test]
     fn finds_allow_comments() {
-        let text = "graph G < > // higraph-allow: HG2201, HG99xx\n";
+        let text = "graph G < > // higraph-allow: HG2201, HG97xx\n";
         let parse = higraph_syntax::parse(text);
         let (allows, unknown) = allows(text, &parse, &LineIndex::new(text));
         assert_eq!(allows.len(), 1);
@@ -143,7 +143,7 @@ mod tests {
         assert_eq!(unknown.len(), 1);
         assert_eq!(
             &text[std::ops::Range::<usize>::from(unknown[0].range)],
-            "HG99xx"
+            "HG97xx"
         );
         assert!(is_suppressed(&allows, "HG2201", 1));
         assert!(!is_suppressed(&allows, "HG2201", 2));

@@ -1,5 +1,5 @@
-//! Keywords are contextual (language.md §7): a graph, its variables, a group, its instances and
-//! the symbols they wire may be named like any keyword of the language, and the analysis then
+//! Keywords are contextual (language.md §7): a graph, its variables, a group, its instances,
+//! the symbols they wire and a test may be named like any keyword of the language, and the analysis then
 //! reports nothing but what such a name gets anyway (HG1103 for reserved words, HG4102 for
 //! address areas).
 
@@ -43,6 +43,7 @@ graph Ventil < in < Oben : BOOL; > out < Auf : BOOL; >
 >
 symbols < {k} : E 0.0; Ventil_Auf : A 0.0; >
 group Anlage fc FC 1 db DB 1 < instance V : Ventil < Oben := {k}; Auf := Ventil_Auf; > >
+test {k} < run Anlage; step; expect not Ventil_Auf; >
 ",
 ];
 
@@ -51,11 +52,11 @@ fn every_keyword_may_name_graphs_variables_groups_instances_and_symbols() {
     let mut failures = Vec::new();
     for &(word, kind) in SyntaxKind::KEYWORDS.iter() {
         use SyntaxKind::*;
-        // What such names get anyway (language.md §7): the operators and `ANY` (a type) are
-        // reserved words (HG1103); `FC` and `DB` are address areas, so STL writes `#fc`
-        // (HG4102).
+        // What such names get anyway (language.md §7): the operators, `ANY` (a type) and
+        // `SET` (an STL operation) are reserved words (HG1103); `FC` and `DB` are address
+        // areas, so STL writes `#fc` (HG4102).
         let expected: &[&str] = match kind {
-            AND_KW | OR_KW | XOR_KW | NOT_KW | ANY_KW => &["HG1103"],
+            AND_KW | OR_KW | XOR_KW | NOT_KW | ANY_KW | SET_KW => &["HG1103"],
             FC_KW | DB_KW => &["HG4102"],
             _ => &[],
         };

@@ -66,6 +66,17 @@ fn nesting_past_the_limit_is_reported_once_and_cut() {
                 1,
             );
             check_deep("not", &chart("", &format!("{}x", "not ".repeat(40_000))), 1);
+            // Test expressions are chart expressions with test paths.
+            check_deep(
+                "test parentheses",
+                &format!(
+                    "test T < expect {}x.y{} \"m\"; until {}E 0.1 within T#1S; >\n",
+                    "(".repeat(n),
+                    ")".repeat(n),
+                    "not ".repeat(n)
+                ),
+                2,
+            );
             check_deep(
                 "or chain",
                 &chart("", &format!("x{}", " or x".repeat(40_000))),

@@ -458,6 +458,30 @@ const QUALIFIERS: &[(&str, &str)] = &[
     ("SL", "stored and time limited (needs a time)"),
 ];
 
+/// The statements of a test body after `cycle` and `run` (`runtime.md` §5.2).
+const TEST_STATEMENTS: &[(&str, &str)] = &[
+    ("set", "set a path to a value now"),
+    ("step", "run cycles (default 1)"),
+    ("wait", "run cycles for a time"),
+    ("until", "run cycles until a condition holds, within a time"),
+    ("expect", "check a condition now"),
+    ("command", "send a command to a chart"),
+    ("confirm", "confirm a chart step"),
+    ("restart", "restart the machine, cold or warm"),
+];
+
+/// The chart commands of `runtime.md` §4.2.
+const TEST_COMMANDS: &[(&str, &str)] = &[
+    ("start", "Ready, Completed, Aborted → Starting"),
+    ("hold", "Starting, Active, Resuming → Holding"),
+    ("resume", "Held → Resuming"),
+    ("complete", "Active → Completing"),
+    ("abort", "→ Aborting"),
+    ("stop", "→ Stopping"),
+    ("reset", "Completed, Aborted, Stopped → Ready"),
+    ("error", "→ Error"),
+];
+
 /// Types of `block` interfaces only.
 const INTERFACE_TYPES: &[&str] = &["POINTER", "ANY", "BLOCK_FC", "BLOCK_FB", "BLOCK_DB"];
 
@@ -667,6 +691,16 @@ enum Site {
     JumpTarget(SyntaxNode),
     /// The start of a section of a `block` interface.
     InterfaceSection,
+    /// The start of a statement of a test (the TEST node).
+    TestStatement(SyntaxNode),
+    /// A group or chart of a test's run list.
+    RunEntry,
+    /// The chart after `command`.
+    CommandChart,
+    /// The command after `command Chart`.
+    Command,
+    /// After `restart`.
+    RestartMode,
     /// Nothing to propose.
     Nothing,
 }
@@ -749,6 +783,18 @@ fn classify(root: &SyntaxNode, cursor: &Cursor) -> Site {
             source: true,
         },
         (Some(R_ANGLE), Some(ARROW)) => arrow_site(&parent),
+        (Some(RUN_KW | COMMA), Some(TEST_RUN)) if same_line => Site::RunEntry,
+        (Some(COMMAND_KW), Some(TEST_COMMAND)) if same_line => Site::CommandChart,
+        (Some(IDENT), Some(NAME_REF))
+            if same_line
+                && parent.parent().is_some_and(|p| {
+                    p.kind() == TEST_COMMAND
+                        && p.children().find(|n| n.kind() == NAME_REF).as_ref() == Some(&parent)
+                }) =>
+        {
+            Site::Command
+        }
+        (Some(RESTART_KW), Some(TEST_RESTART)) if same_line => Site::RestartMode,
         _ => header_or_expression(prev, &parent, same_line),
     }
 }
@@ -836,6 +882,7 @@ fn element_start(root: &SyntaxNode, list: &SyntaxNode, offset: TextSize) -> Site
                     node: list.clone(),
                     negatable: true,
                 },
+                TEST => Site::TestStatement(owner),
                 _ => Site::Nothing,
             }
         }
@@ -1194,6 +1241,22 @@ impl<'a> Completer<'a> {
             }
             Site::JumpTarget(jump) => self.step_names(&jump),
             Site::InterfaceSection => self.section_keywords(0),
+            Site::TestStatement(test) => self.test_statements(&test),
+            Site::RunEntry => self.runnable(false),
+            Site::CommandChart => self.runnable(true),
+            Site::Command => {
+                for (command, detail) in TEST_COMMANDS {
+                    self.value(0, command, detail);
+                }
+            }
+            Site::RestartMode => {
+                self.value(
+                    0,
+                    "cold",
+                    "unbuffered: memory back to its initial values, charts Ready",
+                );
+                self.value(0, "warm", "buffered: memory kept, INIT_SD = 1 next cycle");
+            }
             Site::Nothing => {}
         }
     }
@@ -1230,6 +1293,12 @@ impl<'a> Completer<'a> {
             "chart Name < sequencer ... >",
             "chart ${1:Name} <\n  sequencer ${2:S1} <\n    start < ${3:TRUE}; >\n    step ${4:START} < $0 >\n  >\n>"
                 .to_owned(),
+        );
+        self.out.snippet(
+            0,
+            "test",
+            "test Name < run ...; expect ...; >",
+            "test ${1:Name} <\n  run ${2:Group};\n  $0\n>".to_owned(),
         );
         self.out.keyword(1, "symbols", "a table of global symbols");
         self.out
@@ -1578,6 +1647,49 @@ impl<'a> Completer<'a> {
         );
         self.out
             .keyword(1, "option", "a compile option of the group");
+    }
+
+    /// The statement keywords of a test; `cycle` and `run` first while only they stand
+    /// before the cursor (HG9001).
+    fn test_statements(&mut self, test: &SyntaxNode) {
+        let offset = self.cursor.offset;
+        let statements: Vec<ast::TestStmt> = ast::Test::cast(test.clone())
+            .map(|t| t.statements().collect())
+            .unwrap_or_default();
+        let before = |s: &ast::TestStmt| s.syntax().text_range().end() <= offset;
+        let at_top = statements
+            .iter()
+            .filter(|s| before(s))
+            .all(|s| matches!(s, ast::TestStmt::Cycle(_) | ast::TestStmt::Run(_)));
+        let has = |keyword: &str| statements.iter().any(|s| s.keyword() == keyword);
+        let top_rank = if at_top { 0 } else { 2 };
+        if !has("cycle") {
+            self.out
+                .keyword(top_rank, "cycle", "the cycle time (default T#10MS)");
+        }
+        if !has("run") {
+            self.out
+                .keyword(top_rank, "run", "the groups and charts to run, in order");
+        }
+        for (keyword, detail) in TEST_STATEMENTS {
+            self.out.keyword(1, keyword, detail);
+        }
+    }
+
+    /// Groups and plain charts (a test's run list); with `charts_only`, plain charts.
+    fn runnable(&mut self, charts_only: bool) {
+        let index = self.index;
+        for item in &index.items {
+            let (kind, what) = match item.kind {
+                ItemKind::Group if !charts_only => (CompletionKind::Instance, "group"),
+                ItemKind::Chart if !item.chart_type => (CompletionKind::Graph, "chart"),
+                _ => continue,
+            };
+            let path = item.file.path(self.db).clone();
+            if let Some(proposal) = self.out.add(0, item.name.clone(), kind) {
+                proposal.detail = Some(format!("{what} in {path}"));
+            }
+        }
     }
 
     fn graph_names(&mut self) {
@@ -2009,6 +2121,7 @@ graph Ventil_2E "valve" <
 Snippet graph · graph Name < ... > with a startup transition ⇒ graph ${1:Name} <⏎  state 0 "${2:Init}" < >⏎  trans any->0 prio 1 "startup" < U INIT_SD; >⏎  $0⏎>
 Snippet group · group Name < instance ... > ⇒ group ${1:Name} <⏎  instance ${2:Inst} : ${3:Graph} <⏎    $0⏎  >⏎>
 Snippet chart · chart Name < sequencer ... > ⇒ chart ${1:Name} <⏎  sequencer ${2:S1} <⏎    start < ${3:TRUE}; >⏎    step ${4:START} < $0 >⏎  >⏎>
+Snippet test · test Name < run ...; expect ...; > ⇒ test ${1:Name} <⏎  run ${2:Group};⏎  $0⏎>
 Keyword symbols · a table of global symbols
 Keyword block · the interface of an external block
 Keyword mnemonic · the STL mnemonics of this file
@@ -2020,10 +2133,49 @@ Keyword mnemonic · the STL mnemonics of this file
         let items = complete("graph G < >\n$0");
         assert_eq!(
             items.iter().map(|i| i.label.as_str()).collect::<Vec<_>>(),
-            ["graph", "group", "chart", "symbols", "block"]
+            ["graph", "group", "chart", "test", "symbols", "block"]
         );
         let typed = complete("graph G < >\ng$0");
         assert_eq!(labels(&typed, CompletionKind::Snippet), ["graph", "group"]);
+    }
+
+    const TEST_WORKSPACE: &str =
+        "group Linie < >\nchart Tank < >\nchart type Vorlage < >\ngraph Blink < >\n";
+
+    #[test]
+    fn test_statements_put_cycle_and_run_first_while_they_can() {
+        let at_top = complete(&format!(
+            "{TEST_WORKSPACE}test T <\n  cycle T#10MS;\n  $0\n>"
+        ));
+        assert_eq!(
+            at_top.iter().map(|i| i.label.as_str()).collect::<Vec<_>>(),
+            [
+                "run", "set", "step", "wait", "until", "expect", "command", "confirm", "restart"
+            ]
+        );
+        let later = complete(&format!("{TEST_WORKSPACE}test T <\n  step;\n  ex$0\n>"));
+        assert_eq!(labels(&later, CompletionKind::Keyword), ["expect"]);
+        let after = complete(&format!("{TEST_WORKSPACE}test T <\n  step;\n  $0\n>"));
+        let labels_after: Vec<&str> = after.iter().map(|i| i.label.as_str()).collect();
+        assert_eq!(labels_after.last(), Some(&"run"));
+    }
+
+    #[test]
+    fn test_run_lists_commands_and_restarts() {
+        insta::assert_snapshot!(check(&format!("{TEST_WORKSPACE}test T < run $0 >")), @r#"
+Instance Linie · group in main.higraph
+Graph Tank · chart in main.higraph
+"#);
+        insta::assert_snapshot!(check(&format!("{TEST_WORKSPACE}test T < run Linie, T$0 >")), @"Graph Tank · chart in main.higraph");
+        insta::assert_snapshot!(check(&format!("{TEST_WORKSPACE}test T < command $0 >")), @"Graph Tank · chart in main.higraph");
+        insta::assert_snapshot!(check(&format!("{TEST_WORKSPACE}test T < command Tank re$0 >")), @r#"
+Value resume · Held → Resuming
+Value reset · Completed, Aborted, Stopped → Ready
+"#);
+        insta::assert_snapshot!(check(&format!("{TEST_WORKSPACE}test T < restart $0 >")), @r#"
+Value cold · unbuffered: memory back to its initial values, charts Ready
+Value warm · buffered: memory kept, INIT_SD = 1 next cycle
+"#);
     }
 
     #[test]

@@ -671,10 +671,10 @@ impl Highlighter<'_> {
             return;
         }
         let single = path.segment_texts().len() == 1;
-        if let Some(symbol) = path.symbol() {
-            if self.index.symbol(&symbol.name()).is_some() {
-                self.push_node(symbol.syntax(), TokenKind::Symbol, 0);
-            }
+        if let Some(symbol) = path.symbol()
+            && self.index.symbol(&symbol.name()).is_some()
+        {
+            self.push_node(symbol.syntax(), TokenKind::Symbol, 0);
         }
         for (i, segment) in path.segments().enumerate() {
             let text = segment.text();

@@ -32,13 +32,18 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, test: &ast::Test) {
         return;
     };
     duplicate_name(ctx, &name, name_range);
-    let stmts: Vec<ast::TestStmt> = test
-        .statements()
+    // What a statement is counts even with a syntax error in it (an `expect` with a broken
+    // condition is still an `expect`); its parts are read only without one (C1).
+    let all: Vec<ast::TestStmt> = test.statements().collect();
+    let stmts: Vec<ast::TestStmt> = all
+        .iter()
         .filter(|s| !has_error(s.syntax()))
+        .cloned()
         .collect();
     order(ctx, test, &name, &stmts);
-    run_list(ctx, &name, name_range, &stmts);
-    if !stmts
+    let has_run = all.iter().any(|s| matches!(s, ast::TestStmt::Run(_)));
+    run_list(ctx, &name, name_range, &stmts, has_run);
+    if !all
         .iter()
         .any(|s| matches!(s, ast::TestStmt::Expect(_) | ast::TestStmt::Until(_)))
     {
@@ -141,7 +146,13 @@ fn runnable(item: &index::GlobalItem) -> bool {
 }
 
 /// HG9006, HG9007 and HG9008: the run list.
-fn run_list(ctx: &mut Ctx<'_>, name: &str, name_range: TextRange, stmts: &[ast::TestStmt]) {
+fn run_list(
+    ctx: &mut Ctx<'_>,
+    name: &str,
+    name_range: TextRange,
+    stmts: &[ast::TestStmt],
+    has_run: bool,
+) {
     let runs: Vec<&ast::TestRun> = stmts
         .iter()
         .filter_map(|s| match s {
@@ -149,7 +160,7 @@ fn run_list(ctx: &mut Ctx<'_>, name: &str, name_range: TextRange, stmts: &[ast::
             _ => None,
         })
         .collect();
-    if runs.is_empty() {
+    if !has_run {
         if !ctx.index.items.iter().any(runnable) {
             let diag = ctx.diag(
                 "HG9008",
