@@ -132,7 +132,11 @@ fn the_lens_runs_a_test_whose_failures_are_published_until_an_edit() {
     assert_eq!(passed["cycles"], 2, "{passed}");
     assert_eq!(passed["time_ms"], 20, "{passed}");
     assert_eq!(passed["failures"], json!([]), "{passed}");
-    assert_eq!(passed["range"]["start"], json!({"line": 1, "character": 5}), "the name");
+    assert_eq!(
+        passed["range"]["start"],
+        json!({"line": 1, "character": 5}),
+        "the name"
+    );
 
     let failed = run_test(&mut server, &uri, "Falsch").expect("the test runs");
     assert_eq!(failed["result"], "failed", "{failed}");

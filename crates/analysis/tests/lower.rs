@@ -199,3 +199,48 @@ fn max_graph_in_a_group() -> Vec<(String, String)> {
         ),
     ]
 }
+
+/// Lowering is linear in what it lowers: doubling a chain at most about doubles the time
+/// (measured as the better of two runs, with a generous margin for noise).
+#[test]
+fn lowering_time_grows_linearly() {
+    use higraph_workload::scaling;
+    fn graph_chain_in_a_group(n: usize) -> String {
+        format!(
+            "{}group G fc FC 1 db DB 1 < instance I : Chain < > >\n",
+            scaling::graph_chain(n)
+        )
+    }
+    type Make = fn(usize) -> String;
+    let cases: [(&str, Make); 3] = [
+        ("chart chain", scaling::chart_chain),
+        ("graph chain", graph_chain_in_a_group),
+        ("group chain", scaling::group_chain),
+    ];
+    for (name, make) in cases {
+        let time = |n: usize| {
+            let host = load(vec![("main.higraph".to_owned(), make(n))]);
+            let analysis = host.analysis();
+            // Warm the analysis' own queries: only the lowering is measured.
+            let _ = analysis.diagnostics();
+            (0..2)
+                .map(|_| {
+                    let start = std::time::Instant::now();
+                    let lowered = analysis.lower_workspace().expect("not cancelled");
+                    assert!(
+                        !lowered.program.groups.is_empty() || !lowered.program.charts.is_empty(),
+                        "{name}: nothing lowered"
+                    );
+                    start.elapsed()
+                })
+                .min()
+                .unwrap_or_default()
+        };
+        let small = time(1000);
+        let large = time(4000);
+        assert!(
+            large < small * 12 + std::time::Duration::from_millis(50),
+            "{name}: 1000 → {small:?}, 4000 → {large:?}"
+        );
+    }
+}

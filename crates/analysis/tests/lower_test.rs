@@ -189,4 +189,206 @@ fn test_paths_name_their_definitions() {
         segments[1].1,
         SegmentDef::Predefined { name: "ST_Expired" }
     ));
+    // Every segment of every path of the file.
+    let all = analysis
+        .test_path_segments("tests.higraph")
+        .expect("not cancelled");
+    let symbols = all
+        .iter()
+        .filter(|(_, d)| matches!(d, SegmentDef::Symbol { .. }))
+        .count();
+    assert_eq!(symbols, 7);
+    for (range, def) in &all {
+        let written = &text[usize::from(range.start())..usize::from(range.end())];
+        if let SegmentDef::Symbol { name } = def {
+            assert_eq!(written, name);
+        }
+    }
+}
+
+/// Lowers and runs a test; the failures' messages.
+fn run(host: &AnalysisHost, path: &str, name: &str) -> Vec<String> {
+    let lowered = match host
+        .analysis()
+        .lower_test(path, name)
+        .expect("not cancelled")
+    {
+        Ok(t) => t,
+        Err(d) => return vec![format!("{}: {}", d.code, d.message)],
+    };
+    let options = higraph_runtime::test::RunOptions {
+        trace: false,
+        cancelled: &|| false,
+    };
+    let run = higraph_runtime::test::run(&lowered.program, &options).expect("not cancelled");
+    if std::env::var("LOWER_TRACE").is_ok() {
+        let traced = higraph_runtime::test::run(
+            &lowered.program,
+            &higraph_runtime::test::RunOptions {
+                trace: true,
+                cancelled: &|| false,
+            },
+        )
+        .expect("not cancelled");
+        for c in &traced.trace.expect("trace").cycles {
+            let states: Vec<String> = c
+                .instances
+                .iter()
+                .map(|i| format!("{}={}/{} {:?}", i.instance, i.state, i.previous, i.parts))
+                .collect();
+            eprintln!("cycle {}: {}", c.cycle, states.join("  "));
+        }
+    }
+    run.failures
+        .iter()
+        .map(|f| {
+            let at = lowered
+                .origin(f.origin)
+                .map(|(file, range)| format!("{file}@{range:?}"))
+                .unwrap_or_default();
+            format!("{} {} ({at})", f.code, f.message)
+        })
+        .collect()
+}
+
+/// `runtime.md` §5.4 on the drilling example (whose coordinator dwells 2 s at the bottom
+/// and has eight states, and whose clamp waits 1 s for its jaws): passes.
+#[test]
+fn the_drilling_test_passes() {
+    let text = r#"test Bohrzyklus2 <
+  run Bohrmaschine;
+  set Bohrer_Oben := TRUE;
+  set Bohrmotor_Steht := TRUE;
+  step 3;
+  expect Bohren.state = 1 "coordinator in its home position";
+  expect Vorschub.state = 1 and Bohrmotor.state = 1 and Spanneinrichtung.state = 1;
+  set Starttaster := TRUE;
+  step;
+  set Starttaster := FALSE;
+  expect Bohren.state = 2 and Spanneinrichtung.state = 2 and Werkstueck_Spannen;
+  expect not Bohren.IM_Geloest "X of Spanner state 1 reset the message";
+  set Spanndruck_Erreicht := TRUE;
+  until Bohrmotor_Ein within T#100MS;
+  set Bohrmotor_Steht := FALSE;
+  set Bohrmotor_Laeuft := TRUE;
+  until Bohrer_Senken within T#100MS;
+  set Bohrer_Oben := FALSE;
+  wait T#200MS;
+  expect Vorschub.state = 2 and not Vorschub.ST_Expired;
+  set Bohrer_Unten := TRUE;
+  until Bohrer_Heben within T#2100MS;
+  expect not Bohrer_Senken "cyclic_rlo0 reset the lowering valve";
+  set Bohrer_Unten := FALSE;
+  set Bohrer_Oben := TRUE;
+  until not Bohrmotor_Ein within T#100MS;
+  set Bohrmotor_Laeuft := FALSE;
+  set Bohrmotor_Steht := TRUE;
+  set Spanndruck_Erreicht := FALSE;
+  until Bohren.state = 1 within T#1200MS;
+  expect Bohren.previous = 8;
+  expect not (Bohrmotor_Ein or Bohrer_Senken or Bohrer_Heben or Werkstueck_Spannen);
+>
+"#;
+    let mut host = drilling();
+    host.set_file_contents(
+        "tests.higraph",
+        FileContents::from_bytes(format!("{DRILLING_TEST}{text}").into_bytes()),
+    );
+    assert_eq!(
+        run(&host, "tests.higraph", "Bohrzyklus2"),
+        Vec::<String>::new()
+    );
+}
+
+/// `runtime.md` §5.5: hold and resume of a chart, passes.
+#[test]
+fn the_chart_hold_test_passes() {
+    let host = host(
+        r#"symbols < Flasche_da : E 4.0; Voll : E 4.1; Ventil : A 4.0; Ventil_Sperre : M 40.0; >
+chart Abfuellen "bottle filling" <
+  run time_monitoring;
+  sequencer RUN prio 2 <
+    start < SFC.RUN; >
+    step BEREIT < >
+    trans T1 < Flasche_da; >
+    step FUELLEN < N Ventil; max T#5S; >
+    trans T2 < Voll; >
+    step ENDE < >
+  >
+  sequencer HALT prio 1 <
+    start < SFC.HOLDING; >
+    step H1 < init < Ventil_Sperre := TRUE; > >
+    trans TH < >
+    step H2 < >
+  >
+>
+test Abfuellen_Halten "hold interrupts filling; resume continues it" <
+  cycle T#100MS;
+  run Abfuellen;
+  expect Abfuellen.state = Ready;
+  command Abfuellen start;
+  step;
+  expect Abfuellen.state = Active and Abfuellen.BEREIT;
+  set Flasche_da := TRUE;
+  step;
+  expect Abfuellen.FUELLEN and Ventil;
+  command Abfuellen hold;
+  step;
+  expect Abfuellen.state = Holding and not Ventil and Ventil_Sperre;
+  expect Abfuellen.FUELLEN "a suspended step stays active";
+  until Abfuellen.state = Held within T#1S;
+  command Abfuellen resume;
+  step;
+  expect Abfuellen.state = Active and Ventil;
+  wait T#4900MS;
+  expect not Abfuellen.FUELLEN.error;
+  step;
+  expect Abfuellen.RUN.FUELLEN.error;
+  set Voll := TRUE;
+  until Abfuellen.state = Completed within T#1S;
+  expect not Ventil;
+>
+"#,
+    );
+    assert_eq!(
+        run(&host, "main.higraph", "Abfuellen_Halten"),
+        Vec::<String>::new()
+    );
+}
+
+/// `runtime.md` §9.3 E5: the internal message hand-shake, passes.
+#[test]
+fn the_message_handshake_passes() {
+    let host = host(
+        r#"graph Auftraggeber <
+  in < Start : BOOL; >
+  in_out < OM_Go : BOOL msg out; IM_Fertig : BOOL msg in; >
+  state 0 < > state 1 < E: S OM_Go; > state 2 < >
+  trans any->0 < U INIT_SD; >
+  trans 0->1 < U Start; >
+  trans 1->2 < U IM_Fertig; !: R IM_Fertig; >
+>
+graph Ausfuehrer <
+  in_out < IM_Go : BOOL msg in; OM_Fertig : BOOL msg out; >
+  state 0 < > state 1 < E: S OM_Fertig; >
+  trans any->0 < U INIT_SD; >
+  trans 0->1 < U IM_Go; !: R IM_Go; >
+  trans 1->0 < >
+>
+group Paar fc FC 1 db DB 1 <
+  instance A : Auftraggeber < Start := M 0.0; OM_Go := B.IM_Go; >
+  instance B : Ausfuehrer < OM_Fertig := A.IM_Fertig; >
+>
+test E5 <
+  step;
+  expect A.state = 0 and not A.IM_Fertig and B.state = 0 and not B.IM_Go;
+  set M 0.0 := TRUE;
+  step;
+  expect A.state = 1 and A.IM_Fertig and B.state = 1 and not B.IM_Go;
+  step;
+  expect A.state = 2 and not A.IM_Fertig and B.state = 0 and not B.IM_Go;
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "E5"), Vec::<String>::new());
 }

@@ -195,7 +195,7 @@ fn mask_times(text: &str) -> String {
         let (head, tail) = rest.split_at(at + 6);
         out.push_str(head);
         let end = tail.find('"').unwrap_or(0);
-        out.push_str("T");
+        out.push('T');
         rest = &tail[end..];
     }
     out.push_str(rest);

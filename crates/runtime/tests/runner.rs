@@ -427,8 +427,7 @@ fn the_vcd_reads_back() {
     }
     let at = |t: u64, code: vcd::IdCode| {
         seen.iter()
-            .filter(|(time, c, _)| *time <= t && *c == code)
-            .next_back()
+            .rfind(|(time, c, _)| *time <= t && *c == code)
             .map(|(_, _, v)| v.clone())
     };
     assert_eq!(at(0, state).as_deref(), Some("0"));

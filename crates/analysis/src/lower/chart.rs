@@ -164,7 +164,6 @@ impl ChartLowering<'_, '_> {
             ast::Expr::Paren(p) => p.expr().and_then(|e| self.static_ty(&e)),
             ast::Expr::TestPath(_) => None,
             ast::Expr::Prefix(_) | ast::Expr::Bin(_) => Some(Ty::Bool),
-            ast::Expr::TestPath(_) => None,
         }
     }
 
@@ -179,7 +178,6 @@ impl ChartLowering<'_, '_> {
             ast::Expr::Path(path) => Expr::Read(self.path(path, hint)?),
             ast::Expr::TestPath(_) => return None,
             ast::Expr::Paren(p) => self.expr(&p.expr()?, hint)?,
-            ast::Expr::TestPath(_) => return None,
             ast::Expr::Prefix(p) => Expr::Not(Box::new(self.expr(&p.operand()?, Some(Ty::Bool))?)),
             ast::Expr::Bin(b) => {
                 let op = b.op_text()?;
@@ -420,6 +418,16 @@ impl ChartLowering<'_, '_> {
             .map(|p| self.statements(p.syntax()))
             .unwrap_or_default();
         let tree = Tree::build(sequencer);
+        let nav = Nav::new(&tree);
+        // Steps by name (the first of each, C3), for jump and loop targets.
+        let mut steps_by_name: HashMap<String, usize> = HashMap::new();
+        for (id, elem) in tree.elems.iter().enumerate() {
+            if elem.kind == Kind::Step {
+                steps_by_name
+                    .entry(crate::index::key(elem.label()))
+                    .or_insert(id);
+            }
+        }
         // Steps (the first of each name, C3) and chart transitions, in text order.
         let mut step_of: HashMap<usize, StepIdx> = HashMap::new();
         let mut trans_of: HashMap<usize, TransIdx> = HashMap::new();
@@ -456,19 +464,21 @@ impl ChartLowering<'_, '_> {
                     let (kind, from, to) = match elem.kind {
                         Kind::Trans => (
                             ChartTransKind::Trans,
-                            predecessors(&tree, id, &step_of),
-                            successors(&tree, id, &step_of),
+                            predecessors(&tree, &nav, id, &step_of),
+                            successors(&tree, &nav, id, &step_of),
                         ),
                         kind => {
-                            let from = tree
-                                .attached_to(id)
+                            let from = nav
+                                .previous_unit(&tree, id)
                                 .and_then(|s| step_of.get(&s).copied())
                                 .into_iter()
                                 .collect();
                             let to = elem
                                 .target
                                 .as_ref()
-                                .and_then(|(t, _)| tree.step_named(t))
+                                .and_then(|(t, _)| {
+                                    steps_by_name.get(&crate::index::key(t)).copied()
+                                })
                                 .and_then(|s| step_of.get(&s).copied())
                                 .into_iter()
                                 .collect();
@@ -501,12 +511,12 @@ impl ChartLowering<'_, '_> {
                 continue;
             }
             let mut candidates = Vec::new();
-            if let Some(next) = tree.next_unit(id) {
+            if let Some(next) = nav.next_unit(&tree, id) {
                 match tree.elems[next].kind {
                     Kind::Trans => candidates.extend(trans_of.get(&next).copied()),
                     Kind::Alt => {
                         for &branch in &tree.elems[next].branches {
-                            if let Some(&first) = tree.units(branch).first()
+                            if let Some(first) = Nav::first_unit(&tree, branch)
                                 && tree.elems[first].kind == Kind::Trans
                             {
                                 candidates.extend(trans_of.get(&first).copied());
@@ -516,7 +526,7 @@ impl ChartLowering<'_, '_> {
                     _ => {}
                 }
             }
-            for attachment in tree.attachments(id) {
+            for attachment in nav.attachments(&tree, id) {
                 candidates.extend(trans_of.get(&attachment).copied());
             }
             if let Some(step) = steps.get_mut(s as usize) {
@@ -633,7 +643,7 @@ fn last_steps(tree: &Tree, unit: usize, out: &mut Vec<usize>) {
         Kind::Step => out.push(unit),
         Kind::Parallel => {
             for &branch in &tree.elems[unit].branches {
-                if let Some(&last) = tree.units(branch).last() {
+                if let Some(last) = Nav::last_unit(tree, branch) {
                     last_steps(tree, last, out);
                 }
             }
@@ -644,18 +654,16 @@ fn last_steps(tree: &Tree, unit: usize, out: &mut Vec<usize>) {
 
 /// The steps a `trans` leaves: the step-kind unit before it (the last steps of a parallel); at
 /// the start of an `alt` branch, the unit before the `alt`.
-fn predecessors(tree: &Tree, trans: usize, step_of: &HashMap<usize, StepIdx>) -> Vec<StepIdx> {
+fn predecessors(
+    tree: &Tree,
+    nav: &Nav,
+    trans: usize,
+    step_of: &HashMap<usize, StepIdx>,
+) -> Vec<StepIdx> {
     let mut current = trans;
     // Bounded by the nesting depth: each round moves one `alt` outwards.
-    for _ in 0..tree.lists.len().max(1) {
-        let list = &tree.lists[tree.elems[current].list];
-        let position = list.elems.iter().position(|&e| e == current).unwrap_or(0);
-        let before = list.elems[..position]
-            .iter()
-            .rev()
-            .copied()
-            .find(|&e| !tree.elems[e].kind.is_attachment());
-        match before {
+    for _ in 0..=tree.lists.len() {
+        match nav.previous_unit(tree, current) {
             Some(unit) => {
                 let mut steps = Vec::new();
                 last_steps(tree, unit, &mut steps);
@@ -664,7 +672,7 @@ fn predecessors(tree: &Tree, trans: usize, step_of: &HashMap<usize, StepIdx>) ->
                     .filter_map(|s| step_of.get(s).copied())
                     .collect();
             }
-            None => match list.owner {
+            None => match tree.lists[tree.elems[current].list].owner {
                 Some(owner) if tree.elems[owner].kind == Kind::Alt => current = owner,
                 _ => return Vec::new(),
             },
@@ -675,13 +683,111 @@ fn predecessors(tree: &Tree, trans: usize, step_of: &HashMap<usize, StepIdx>) ->
 
 /// The steps a `trans` activates: the first steps of the unit after it (in an `alt` branch,
 /// the next unit of the branch or the unit after the `alt`).
-fn successors(tree: &Tree, trans: usize, step_of: &HashMap<usize, StepIdx>) -> Vec<StepIdx> {
-    match tree.next_unit(trans) {
-        Some(next) => tree
-            .first_steps(next)
-            .into_iter()
-            .filter_map(|s| step_of.get(&s).copied())
-            .collect(),
-        None => Vec::new(),
+fn successors(
+    tree: &Tree,
+    nav: &Nav,
+    trans: usize,
+    step_of: &HashMap<usize, StepIdx>,
+) -> Vec<StepIdx> {
+    let mut steps = Vec::new();
+    if let Some(next) = nav.next_unit(tree, trans) {
+        Nav::first_steps(tree, next, &mut steps);
+    }
+    steps
+        .iter()
+        .filter_map(|s| step_of.get(s).copied())
+        .collect()
+}
+
+/// Where each element stands in its list, so that the neighbours of an element cost their own
+/// distance, not the list's length (the tree's own helpers search the list).
+struct Nav {
+    pos: Vec<usize>,
+}
+
+impl Nav {
+    fn new(tree: &Tree) -> Nav {
+        let mut pos = vec![0; tree.elems.len()];
+        for list in &tree.lists {
+            for (i, &e) in list.elems.iter().enumerate() {
+                pos[e] = i;
+            }
+        }
+        Nav { pos }
+    }
+
+    /// The next unit after `elem`: in its list, else after the enclosing `parallel`/`alt`
+    /// (bounded by the nesting depth).
+    fn next_unit(&self, tree: &Tree, elem: usize) -> Option<usize> {
+        let mut current = elem;
+        for _ in 0..=tree.lists.len() {
+            let list = &tree.lists[tree.elems[current].list];
+            let next = list.elems[self.pos[current] + 1..]
+                .iter()
+                .copied()
+                .find(|&e| !tree.elems[e].kind.is_attachment());
+            match (next, list.owner) {
+                (Some(next), _) => return Some(next),
+                (None, Some(owner)) => current = owner,
+                (None, None) => return None,
+            }
+        }
+        None
+    }
+
+    /// The unit before `elem` in its list.
+    fn previous_unit(&self, tree: &Tree, elem: usize) -> Option<usize> {
+        let list = &tree.lists[tree.elems[elem].list];
+        list.elems[..self.pos[elem]]
+            .iter()
+            .rev()
+            .copied()
+            .find(|&e| !tree.elems[e].kind.is_attachment())
+    }
+
+    /// The jumps and loops right after `elem`.
+    fn attachments<'t>(&self, tree: &'t Tree, elem: usize) -> impl Iterator<Item = usize> + 't {
+        let list = &tree.lists[tree.elems[elem].list];
+        list.elems[self.pos[elem] + 1..]
+            .iter()
+            .copied()
+            .take_while(|&e| tree.elems[e].kind.is_attachment())
+    }
+
+    /// The first unit of a list.
+    fn first_unit(tree: &Tree, list: usize) -> Option<usize> {
+        tree.lists[list]
+            .elems
+            .iter()
+            .copied()
+            .find(|&e| !tree.elems[e].kind.is_attachment())
+    }
+
+    /// The last unit of a list.
+    fn last_unit(tree: &Tree, list: usize) -> Option<usize> {
+        tree.lists[list]
+            .elems
+            .iter()
+            .rev()
+            .copied()
+            .find(|&e| !tree.elems[e].kind.is_attachment())
+    }
+
+    /// The first steps of a step-kind unit (a step, or every branch's first steps of a
+    /// parallel; depth bounded by the parser's nesting limit).
+    fn first_steps(tree: &Tree, unit: usize, out: &mut Vec<usize>) {
+        match tree.elems[unit].kind {
+            Kind::Step => out.push(unit),
+            Kind::Parallel => {
+                for &branch in &tree.elems[unit].branches {
+                    if let Some(first) = Nav::first_unit(tree, branch)
+                        && tree.elems[first].kind.is_step_kind()
+                    {
+                        Nav::first_steps(tree, first, out);
+                    }
+                }
+            }
+            _ => {}
+        }
     }
 }

@@ -582,11 +582,9 @@ impl GraphLowering<'_, '_> {
         if let Some(body) = trans.body() {
             for (label, block) in self.labelled_blocks(&body) {
                 match label.as_deref() {
-                    None | Some("?") => {
-                        if !block.code.is_empty() || label.is_some() {
-                            out.conditions.push(block);
-                        }
-                    }
+                    // An empty unlabelled run is no block.
+                    None if block.code.is_empty() => {}
+                    None | Some("?") => out.conditions.push(block),
                     Some("!") => out.actions.push(block),
                     _ => {}
                 }

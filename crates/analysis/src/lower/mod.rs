@@ -148,6 +148,7 @@ impl Analysis {
 
     /// Lowers one test. `Err` is the HG9904 diagnostic (on the test's name, in its file) when
     /// the test cannot run because of error-level diagnostics (`runtime.md` §6).
+    #[allow(clippy::result_large_err)] // the interface the runner is built against
     pub fn lower_test(
         &self,
         path: &str,
@@ -172,6 +173,36 @@ impl Analysis {
             return Ok(Vec::new());
         };
         self.with_db(|db, ws| test_path_at(db, ws, file, offset))
+    }
+}
+
+impl Analysis {
+    /// Every resolved test path segment of the file's tests, in text order, with what it
+    /// names: what references, rename and semantic tokens need of test paths. Paths that do
+    /// not resolve are left out (they carry HG9101–HG9103).
+    pub fn test_path_segments(&self, path: &str) -> Cancellable<Vec<(TextRange, SegmentDef)>> {
+        let Some(file) = self.file(path) else {
+            return Ok(Vec::new());
+        };
+        self.with_db(|db, ws| {
+            let offsets = db::item_offsets(db, file);
+            let mut out = Vec::new();
+            for (i, test) in file_tests(db, file) {
+                let start = offsets.get(i as usize).copied().unwrap_or_default();
+                with_resolver(db, ws, file, &test, |r| {
+                    for path in test.syntax().descendants().filter_map(ast::TestPath::cast) {
+                        if let Ok(res) = r.resolve(&path) {
+                            out.extend(
+                                res.segments
+                                    .into_iter()
+                                    .map(|(range, def)| (range + start, def)),
+                            );
+                        }
+                    }
+                });
+            }
+            out
+        })
     }
 }
 
@@ -219,6 +250,7 @@ pub(crate) fn check_test(
     })
 }
 
+#[allow(clippy::result_large_err)]
 fn lower_test(
     db: &dyn salsa::Database,
     ws: Workspace,

@@ -682,10 +682,11 @@ impl Resolver<'_> {
             let (file, range) = self.loc(instance.graph.0, instance.graph.1, var.name_range);
             segs.push((*member_range, SegmentDef::GraphVariable { file, range }));
             let ty = var.ty.and_then(values::ty);
-            let settable = match ty {
-                Some(Ty::Timer | Ty::Counter) => {
+            let settable = match (ty, self.constant_actual(g, i, member)) {
+                (Some(Ty::Timer | Ty::Counter), _) => {
                     Err("a timer or counter is set by its operations".to_owned())
                 }
+                (_, Some(constant)) => Err(format!("its actual is the constant {constant}")),
                 _ => Ok(()),
             };
             return Ok(Resolution {
@@ -710,6 +711,8 @@ impl Resolver<'_> {
             segs.push((*member_range, SegmentDef::Predefined { name: p.name }));
             let settable = if !p.writable || p.name == "INIT_SD" {
                 Err(format!("{} is kept by the instance", p.name))
+            } else if let Some(constant) = self.constant_actual(g, i, member) {
+                Err(format!("its actual is the constant {constant}"))
             } else {
                 Ok(())
             };
@@ -733,12 +736,36 @@ impl Resolver<'_> {
         Err(PathError::Unresolved {
             range: *member_range,
             message: format!(
-                "instance {} has no variable or step '{member}'",
-                instance.name
+                "{} has no variable or step '{member}'",
+                scope.map_or_else(|| format!("instance {}", instance.name), |s| s.owner())
             ),
             written: member.clone(),
             candidates,
         })
+    }
+
+    /// The constant an instance wires to the formal `member`, as written (§2.1: writes to it
+    /// are discarded, so a test cannot set it).
+    fn constant_actual(&self, g: usize, i: usize, member: &str) -> Option<String> {
+        let group = &self.scope.groups[g];
+        let loc = ItemLoc::new(self.db, group.file, group.item);
+        let Some(ast::Item::Group(node)) = db::item_root(self.db, loc).and_then(ast::Item::cast)
+        else {
+            return None;
+        };
+        let name = &group.instances[i].name;
+        let instance = node.instances().find(|n| {
+            n.name()
+                .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+        })?;
+        let actual = instance.actuals().find(|a| {
+            a.formal()
+                .is_some_and(|f| f.text().eq_ignore_ascii_case(member))
+        })?;
+        match actual.value()? {
+            ast::Operand::Literal(lit) => Some(lit.text()),
+            _ => None,
+        }
     }
 
     /// `Chart.state`, `Chart.Var`, `Chart.[Seq.]Step[.X|.T|.error]`.
@@ -795,7 +822,7 @@ impl Resolver<'_> {
             .iter()
             .position(|s| s.name.eq_ignore_ascii_case(name))
             .filter(|_| rest.len() >= 2);
-        let (candidates, step_rest): (Vec<(usize, usize)>, &[(String, TextRange)]) = match seq {
+        let (candidates, step_rest): (Vec<(usize, usize)>, &[Segment]) = match seq {
             Some(s) => {
                 let (file, range) =
                     self.loc(chart.file, chart.item, chart.sequencers[s].name_range);
@@ -947,6 +974,9 @@ impl Resolver<'_> {
         Formal::Unknown
     }
 }
+
+/// A segment of a path as written, with its range.
+type Segment = (String, TextRange);
 
 enum Formal {
     Unknown,

@@ -615,7 +615,9 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             return None;
         }
         let target_ty = res.ty.or(known(self.static_ty(&value)));
+        // The target is used first (the watch list is in first-use order).
         self.watching = true;
+        let path = self.lower_path(&target, &res, target_ty.unwrap_or(Ty::Bool));
         let (x, ety) = self.expr(&value, target_ty);
         self.watching = false;
         let value_ty = match ety {
@@ -643,9 +645,6 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             );
             return None;
         }
-        self.watching = true;
-        let path = self.lower_path(&target, &res, target_ty.unwrap_or(Ty::Bool));
-        self.watching = false;
         Some(TestStmtKind::Set {
             target: path?,
             value: x?,
