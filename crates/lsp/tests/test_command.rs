@@ -127,6 +127,17 @@ fn tests_that_cannot_run_are_errors() {
         serde_json::json!({"start": {"line": 0, "character": 5}, "end": {"line": 0, "character": 11}})
     );
     assert_eq!(json["summary"]["errors"], 1);
+    let junit = test(&tree, &["--filter", "kaputt", "--format", "junit"]);
+    assert_eq!(junit.status, 1);
+    assert_eq!(
+        check_junit(&junit.stdout),
+        ["testsuites", "testsuite", "testcase", "error"]
+    );
+    assert!(
+        junit
+            .stdout
+            .contains("<error type=\"HG9904\" message=\"test Kaputt cannot run")
+    );
 }
 
 fn validator(schema: &str) -> jsonschema::Validator {
@@ -159,18 +170,7 @@ fn junit_output_is_well_formed() {
     let tree = workspace();
     let run = test(&tree, &["--format", "junit"]);
     assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
-    // Well-formed XML with the elements CI reporters read.
-    let mut reader = quick_xml::Reader::from_str(&run.stdout);
-    let mut elements = Vec::new();
-    loop {
-        match reader.read_event().expect("well-formed XML") {
-            quick_xml::events::Event::Eof => break,
-            quick_xml::events::Event::Start(e) | quick_xml::events::Event::Empty(e) => {
-                elements.push(String::from_utf8_lossy(e.name().as_ref().as_ref()).into_owned());
-            }
-            _ => {}
-        }
-    }
+    let elements = check_junit(&run.stdout);
     assert_eq!(
         elements,
         [
@@ -186,6 +186,136 @@ fn junit_output_is_well_formed() {
     // Wall-clock times vary: mask them for the snapshot.
     let masked = mask_times(&run.stdout);
     insta::assert_snapshot!(masked);
+}
+
+/// Checks a JUnit report the way Jenkins' JUnit schema describes it: well-formed XML,
+/// `testsuites` › `testsuite` › `testcase` › `failure`/`error`, the required attributes
+/// (`name`, `tests`, `failures`, `errors` of a suite; `name` of a case), times as decimal
+/// seconds, and counts that agree with the cases. Besides the schema's attributes it admits
+/// the ones `runtime.md` §7 adds (`skipped` on `testsuites`, `file` and `line` on a case).
+/// Returns the element names in document order.
+fn check_junit(xml: &str) -> Vec<String> {
+    use quick_xml::events::{BytesStart, Event};
+    fn attributes(e: &BytesStart<'_>) -> Vec<(String, String)> {
+        e.attributes()
+            .map(|a| {
+                let a = a.expect("a well-formed attribute");
+                (
+                    String::from_utf8_lossy(a.key.as_ref().as_ref()).into_owned(),
+                    a.normalized_value(quick_xml::XmlVersion::Explicit1_0)
+                        .expect("an attribute value")
+                        .into_owned(),
+                )
+            })
+            .collect()
+    }
+    let allowed = |element: &str| -> (&[&str], &[&str]) {
+        match element {
+            "testsuites" => (
+                &[],
+                &["name", "time", "tests", "failures", "errors", "skipped"],
+            ),
+            "testsuite" => (
+                &["name", "tests", "failures", "errors"],
+                &["name", "tests", "failures", "errors", "time", "skipped"],
+            ),
+            "testcase" => (&["name"], &["name", "time", "classname", "file", "line"]),
+            "failure" | "error" => (&[], &["type", "message"]),
+            other => panic!("unexpected element <{other}>"),
+        }
+    };
+    let parent_of = |element: &str| match element {
+        "testsuites" => None,
+        "testsuite" => Some("testsuites"),
+        "testcase" => Some("testsuite"),
+        _ => Some("testcase"),
+    };
+    let is_time = |t: &str| {
+        let (whole, fraction) = t.split_once('.').unwrap_or((t, ""));
+        !whole.is_empty()
+            && whole
+                .chars()
+                .chain(fraction.chars())
+                .all(|c| c.is_ascii_digit())
+    };
+    let mut reader = quick_xml::Reader::from_str(xml);
+    let mut stack: Vec<String> = Vec::new();
+    let mut names = Vec::new();
+    // Per open suite: (tests, failures, errors) declared and counted.
+    let mut suite: Option<([usize; 3], [usize; 3])> = None;
+    let mut case_kinds: Vec<&str> = Vec::new();
+    loop {
+        let event = reader.read_event().expect("well-formed XML");
+        let (e, empty) = match &event {
+            Event::Eof => break,
+            Event::Start(e) => (e.clone(), false),
+            Event::Empty(e) => (e.clone(), true),
+            Event::End(e) => {
+                let name = String::from_utf8_lossy(e.name().as_ref().as_ref()).into_owned();
+                assert_eq!(stack.pop().as_deref(), Some(name.as_str()));
+                if name == "testcase" {
+                    if let Some((_, counted)) = &mut suite {
+                        counted[0] += 1;
+                        counted[1] += usize::from(case_kinds.contains(&"failure"));
+                        counted[2] += usize::from(case_kinds.contains(&"error"));
+                    }
+                    case_kinds.clear();
+                }
+                if name == "testsuite" {
+                    let (declared, counted) = suite.take().expect("an open suite");
+                    assert_eq!(declared, counted, "suite counts");
+                }
+                continue;
+            }
+            _ => continue,
+        };
+        let name = String::from_utf8_lossy(e.name().as_ref().as_ref()).into_owned();
+        assert_eq!(
+            stack.last().map(String::as_str),
+            parent_of(&name),
+            "<{name}> placed"
+        );
+        let attrs = attributes(&e);
+        let (required, permitted) = allowed(&name);
+        for r in required {
+            assert!(attrs.iter().any(|(k, _)| k == r), "<{name}> needs {r}");
+        }
+        for (k, v) in &attrs {
+            assert!(permitted.contains(&k.as_str()), "<{name}> has {k}");
+            if k == "time" {
+                assert!(is_time(v), "time {v}");
+            }
+        }
+        let number = |key: &str| {
+            attrs
+                .iter()
+                .find(|(k, _)| k == key)
+                .map_or(0, |(_, v)| v.parse().expect("a count"))
+        };
+        match name.as_str() {
+            "testsuite" => {
+                suite = Some((
+                    [number("tests"), number("failures"), number("errors")],
+                    [0; 3],
+                ));
+            }
+            "failure" => case_kinds.push("failure"),
+            "error" => case_kinds.push("error"),
+            _ => {}
+        }
+        names.push(name.clone());
+        if empty {
+            if name == "testcase"
+                && let Some((_, counted)) = &mut suite
+            {
+                counted[0] += 1;
+            }
+        } else {
+            stack.push(name);
+        }
+    }
+    assert!(stack.is_empty());
+    names
 }
 
 fn mask_times(text: &str) -> String {
@@ -269,4 +399,243 @@ fn traces_never_replace_other_files() {
     );
     // Nothing ran: no other trace was written either.
     assert!(!Path::new(&tree.path().join("out/Lampe_Falsch.json")).exists());
+}
+
+#[test]
+fn failures_of_a_later_test_in_a_file_point_into_it() {
+    let tree = workspace();
+    tree.file("tests/both.higraph", format!("{LAMPE_AN}{LAMPE_FALSCH}"));
+    let run = test(&tree, &["tests/both.higraph", "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    let second = &json["tests"][1];
+    assert_eq!(second["name"], "Lampe_Falsch");
+    // The second test starts on line 7 (0-based), its `expect Lampe` on line 9.
+    assert_eq!(
+        second["range"]["start"],
+        serde_json::json!({"line": 7, "character": 5})
+    );
+    assert_eq!(
+        second["failures"][0]["range"]["start"],
+        serde_json::json!({"line": 9, "character": 9})
+    );
+}
+
+// ------------------------------------------------------------------ the examples of the spec
+
+/// A temporary copy of `tests/fixtures/runtime/{name}`, with `replace` applied to its files.
+fn fixture(name: &str, replace: Option<(&str, &str)>) -> TempTree {
+    let tree = TempTree::new();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/runtime")
+        .join(name);
+    for entry in std::fs::read_dir(&dir).expect("the fixture") {
+        let entry = entry.expect("an entry");
+        let mut text = std::fs::read_to_string(entry.path()).expect("a fixture file");
+        if let Some((from, to)) = replace
+            && text.contains(from)
+        {
+            text = text.replacen(from, to, 1);
+        }
+        tree.file(&entry.file_name().to_string_lossy(), text);
+    }
+    tree
+}
+
+#[test]
+fn the_drilling_machine_test_passes() {
+    let run = test(&fixture("drilling", None), &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stdout,
+        "running 1 test\ntest Bohrzyklus ... ok (35 cycles, 350 ms)\n\n\
+         test result: ok. 1 passed; 0 failed; 0 errors; 0 filtered out\n"
+    );
+}
+
+#[test]
+fn a_changed_expectation_of_the_drilling_test_fails_where_it_should() {
+    let tree = fixture(
+        "drilling",
+        Some(("ST_CurrValue = 9800", "ST_CurrValue = 9790")),
+    );
+    let run = test(&tree, &["--format", "json"]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    let failures = &json["tests"][0]["failures"];
+    assert_eq!(failures.as_array().map(Vec::len), Some(1), "{failures:#}");
+    let f = &failures[0];
+    assert_eq!(f["code"], "HG9901");
+    assert_eq!(
+        f["message"],
+        "expect failed: remaining supervision time in ms: at cycle 28 (t = 280 ms): \
+         Vorschub.ST_CurrValue = 9800"
+    );
+    assert_eq!(
+        (f["cycle"].as_u64(), f["time_ms"].as_u64()),
+        (Some(28), Some(280))
+    );
+    assert_eq!(
+        f["values"],
+        serde_json::json!({"Vorschub.ST_CurrValue": 9800})
+    );
+}
+
+#[test]
+fn the_chart_test_with_hold_and_resume_passes() {
+    let run = test(&fixture("filling", None), &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .contains("test Abfuellen_Halten ... ok (62 cycles, 6200 ms)")
+    );
+}
+
+#[test]
+fn a_changed_expectation_of_the_chart_test_fails_like_the_spec_shows() {
+    let tree = fixture(
+        "filling",
+        Some((
+            "expect Abfuellen.state = Holding and not Ventil and Ventil_Sperre;",
+            "expect Abfuellen.state = Holding and Ventil and Ventil_Sperre;",
+        )),
+    );
+    let run = test(&tree, &[]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    insta::assert_snapshot!(run.stdout);
+}
+
+#[test]
+fn the_parallel_chart_trace_is_a_byte_snapshot() {
+    let tree = fixture("parallel", None);
+    let run = test(&tree, &["--trace", "traces"]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    let json = std::fs::read_to_string(tree.path().join("traces/E6.json")).expect("trace");
+    let value: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    assert_valid(&validator("test-trace.schema.json"), &value);
+    insta::assert_snapshot!("e6_trace_json", json);
+    let vcd_text = std::fs::read_to_string(tree.path().join("traces/E6.vcd")).expect("VCD");
+    let mut parser = vcd::Parser::new(vcd_text.as_bytes());
+    parser.parse_header().expect("VCD header");
+    for command in parser {
+        command.expect("VCD command");
+    }
+    // The version line changes with every release; the rest is pinned.
+    let pinned = vcd_text.replacen(env!("CARGO_PKG_VERSION"), "VERSION", 1);
+    insta::assert_snapshot!("e6_trace_vcd", pinned);
+}
+
+// ------------------------------------------------------------ fixtures of the result codes
+
+/// `tests/fixtures/results/HG99nn/{fail,pass}*.higraph`: each file is a workspace of its own
+/// (with the SIMATIC mnemonics) whose tests `higraph-lsp test` runs. A failing fixture must
+/// report its code (its human output is a snapshot), a passing one must pass.
+fn run_result_fixture(path: &Path) -> (String, support::Run) {
+    let code = path
+        .parent()
+        .and_then(Path::file_name)
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tree = TempTree::new();
+    tree.file("higraph.toml", "[workspace]\nmnemonic = \"simatic\"\n")
+        .file("main.higraph", std::fs::read(path).expect("the fixture"));
+    (code, test(&tree, &[]))
+}
+
+#[test]
+fn failing_result_fixtures_report_their_code() {
+    insta::glob!("fixtures/results", "HG99*/fail*.higraph", |path| {
+        let (code, run) = run_result_fixture(path);
+        assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+        assert!(
+            run.stdout.contains(&format!("error[{code}]")),
+            "{} should report {code}:\n{}",
+            path.display(),
+            run.stdout
+        );
+        insta::assert_snapshot!(run.stdout);
+    });
+}
+
+#[test]
+fn passing_result_fixtures_pass() {
+    insta::glob!("fixtures/results", "HG99*/pass*.higraph", |path| {
+        let (code, run) = run_result_fixture(path);
+        assert_eq!(
+            run.status,
+            0,
+            "{}:\n{}{}",
+            path.display(),
+            run.stdout,
+            run.stderr
+        );
+        assert!(!run.stdout.contains(&code), "{}", run.stdout);
+    });
+}
+
+#[test]
+fn without_a_path_every_test_of_the_workspace_runs() {
+    let tree = workspace();
+    tree.file(
+        "oben.higraph",
+        "test Oben <\n  run Pult;\n  step;\n  expect not Lampe;\n>\n",
+    );
+    let run = tree.run("tests", &["test", "--filter", "oben"]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("test Oben ... ok"), "{}", run.stdout);
+    // From the sub-folder, a PATH selects below it.
+    let run = tree.run("tests", &["test", "an.higraph"]);
+    assert!(run.stdout.starts_with("running 1 test\n"), "{}", run.stdout);
+}
+
+#[test]
+fn the_group_examples_e1_to_e5_pass() {
+    let run = test(&fixture("groups", None), &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stdout,
+        "running 5 tests\n\
+         test E1 ... ok (7 cycles, 70 ms)\n\
+         test E2 ... ok (7 cycles, 70 ms)\n\
+         test E3 ... ok (4 cycles, 40 ms)\n\
+         test E4 ... ok (11 cycles, 110 ms)\n\
+         test E5 ... ok (4 cycles, 40 ms)\n\n\
+         test result: ok. 5 passed; 0 failed; 0 errors; 0 filtered out\n"
+    );
+}
+
+#[test]
+fn a_changed_expectation_of_e4_fails_where_it_should() {
+    let tree = fixture(
+        "groups",
+        Some(("A.WT_CurrValue = 10 and", "A.WT_CurrValue = 20 and")),
+    );
+    let run = test(&tree, &["--filter", "E4", "--format", "json"]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    let f = &json["tests"][0]["failures"][0];
+    assert_eq!(f["code"], "HG9901");
+    assert_eq!(
+        f["message"],
+        "expect failed: at cycle 6 (t = 60 ms): A.state = 1, A.WT_CurrValue = 10, \
+         B.ST_CurrValue = 40"
+    );
+    assert_eq!(
+        f["range"]["start"],
+        serde_json::json!({"line": 20, "character": 9})
+    );
+    assert_eq!(
+        json["tests"][0]["failures"].as_array().map(Vec::len),
+        Some(1)
+    );
+}
+
+#[test]
+fn the_drilling_example_test_passes() {
+    let run = run_in(&repo_root(), &["test", "examples/drilling"]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout.contains("test Bohrzyklus ... ok ("),
+        "{}",
+        run.stdout
+    );
 }

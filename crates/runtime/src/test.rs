@@ -9,6 +9,7 @@
 //! * `'{expr}'` of HG9902 is the expression printed back from the lowered program: paths as
 //!   written (white space removed), constants canonical, operators lower case, parentheses
 //!   only where precedence needs them.
+//! * An expression without paths (`expect FALSE;`) has no `: {values}` part.
 //! * A path that cannot be read for the trace's `watch` (a fault while reading) is `null`
 //!   there; the test itself is not affected.
 
@@ -198,12 +199,8 @@ impl Runner<'_, '_> {
                 if let Some(message) = message {
                     let _ = write!(text, ": {message}");
                 }
-                let _ = write!(
-                    text,
-                    ": at cycle {}: {}",
-                    self.sim.cycle,
-                    values_text(&values)
-                );
+                let _ = write!(text, ": at cycle {}", self.sim.cycle);
+                push_values(&mut text, &values);
                 self.fail("HG9902", text, *expr_origin, stmt.origin, values);
                 return Ok(Flow::Stop);
             }
@@ -220,11 +217,11 @@ impl Runner<'_, '_> {
                     }
                     let _ = write!(
                         text,
-                        ": at cycle {} (t = {} ms): {}",
+                        ": at cycle {} (t = {} ms)",
                         self.sim.cycle,
-                        self.sim.now_ms(),
-                        values_text(&values)
+                        self.sim.now_ms()
                     );
+                    push_values(&mut text, &values);
                     self.fail("HG9901", text, *expr_origin, stmt.origin, values);
                 }
             }
@@ -440,6 +437,14 @@ fn message_values(sim: &mut Sim<'_>) -> Vec<bool> {
         }
     }
     out
+}
+
+/// `: {values}`, or nothing for an expression without paths (`expect FALSE;`).
+fn push_values(text: &mut String, values: &[(String, Value)]) {
+    if !values.is_empty() {
+        text.push_str(": ");
+        text.push_str(&values_text(values));
+    }
 }
 
 /// `{values}` of §6: `path = value`, joined by `, `.

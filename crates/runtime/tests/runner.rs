@@ -443,3 +443,10 @@ fn the_vcd_reads_back() {
     assert_eq!(at(40, change).as_deref(), Some("0"));
     assert!(text.trim_end().lines().any(|l| l == "#40"));
 }
+
+#[test]
+fn an_expression_without_paths_has_no_values() {
+    let p = program(vec![expect(Expr::Const(Value::Bool(false)))]);
+    let r = run(&p, false);
+    assert_eq!(messages(&r), ["expect failed: at cycle 0 (t = 0 ms)"]);
+}

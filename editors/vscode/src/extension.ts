@@ -48,8 +48,11 @@ export function activate(context: vscode.ExtensionContext): void {
     {
       render: async (params: RenderParams, token: vscode.CancellationToken): Promise<RenderResult> =>
         runningClient().sendRequest<RenderResult>(RENDER_METHOD, params, token),
+      // (a token only when there is one: an `undefined` would be sent as a second parameter)
       simulate: async (params: { name: string; uri?: string }, token?: vscode.CancellationToken): Promise<Trace> =>
-        runningClient().sendRequest<Trace>(SIMULATE_METHOD, params, token),
+        token
+          ? runningClient().sendRequest<Trace>(SIMULATE_METHOD, params, token)
+          : runningClient().sendRequest<Trace>(SIMULATE_METHOD, params),
     },
     output,
   );
@@ -58,9 +61,15 @@ export function activate(context: vscode.ExtensionContext): void {
   explorer = new TestExplorer(
     {
       listTests: async (token?: vscode.CancellationToken): Promise<TestList> =>
-        runningClient().sendRequest<TestList>(TESTS_METHOD, {}, token),
-      runTest: async (uri: string, name: string, token?: vscode.CancellationToken): Promise<TestJson> =>
-        runningClient().sendRequest(ExecuteCommandRequest.type, { command: RUN_TEST_COMMAND, arguments: [{ uri, name }] }, token),
+        token
+          ? runningClient().sendRequest<TestList>(TESTS_METHOD, {}, token)
+          : runningClient().sendRequest<TestList>(TESTS_METHOD, {}),
+      runTest: async (uri: string, name: string, token?: vscode.CancellationToken): Promise<TestJson> => {
+        const params = { command: RUN_TEST_COMMAND, arguments: [{ uri, name }] };
+        return token
+          ? runningClient().sendRequest(ExecuteCommandRequest.type, params, token)
+          : runningClient().sendRequest(ExecuteCommandRequest.type, params);
+      },
     },
     output,
   );

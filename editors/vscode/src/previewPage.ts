@@ -162,6 +162,21 @@ const PLAYER_SCRIPT = String.raw`
     }
   }
   select.hidden = kind !== 'graph' || select.options.length === 0;
+  if (kind === 'graph') {
+    // The trace does not say which instances are of this graph: start with the one whose
+    // states the picture shows most often.
+    const shown = new Set(all('state').map((el) => el.dataset.state));
+    let best = 0, bestScore = -1;
+    [...select.options].forEach((option, i) => {
+      let score = 0;
+      for (const c of trace.cycles) {
+        const r = c.instances.find((x) => x.group + '.' + x.instance === option.value);
+        if (r && shown.has(String(r.state))) score++;
+      }
+      if (score > bestScore) { best = i; bestScore = score; }
+    });
+    select.selectedIndex = best;
+  }
   const firedKey = (f) => {
     if (!f || f.kind === 'initial') return undefined;
     const from = f.kind === 'any' || f.kind === 'startup' ? 'any' : String(f.from);

@@ -99,6 +99,7 @@ export class TestExplorer implements vscode.Disposable {
       this.entries.set(id, entry);
     }
     this.controller.items.replace([...files.values()]);
+    this.output.appendLine(`[tests] ${this.entries.size} test(s) in ${files.size} file(s)`);
   }
 
   /** The test items a request covers, in order, without the excluded ones. */

@@ -173,6 +173,9 @@ test('the player page runs only its own script (nonce) and shows the SVG inline'
   assert.ok(data);
   assert.equal(JSON.parse(data[1]).test, 'T</script>');
   assert.equal((html.match(/<script nonce="abc123">/g) ?? []).length, 1);
+  // the player's script is valid JavaScript (compiled, not run: it needs the webview's DOM)
+  const script = /<script nonce="abc123">([^]*?)<\/script>/.exec(html)[1];
+  assert.doesNotThrow(() => new Function(script));
   assert.equal((html.match(/<script/g) ?? []).length, 2);
 });
 

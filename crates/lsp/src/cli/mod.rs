@@ -66,8 +66,8 @@ enum Command {
 /// Arguments of `higraph-lsp test`.
 #[derive(Debug, Args)]
 pub(crate) struct TestArgs {
-    /// Files or folders whose tests run (default: the current folder); the workspace is found
-    /// as `check` finds it.
+    /// Files or folders whose tests run (default: every test of the workspace); the workspace
+    /// is found as `check` finds it, from the first PATH or the current folder.
     #[arg(value_name = "PATH")]
     pub paths: Vec<PathBuf>,
     /// Run only the tests whose name contains PATTERN (any letter case).

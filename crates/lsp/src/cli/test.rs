@@ -1,6 +1,7 @@
 //! `higraph-lsp test [PATH...] [--filter PATTERN] [--format human|json|junit] [--trace DIR]`
 //! (`runtime.md` §7): find the workspace as `check` does, run the `test` items of the files
-//! under the PATHs in workspace order, each on a fresh machine, and report like `cargo test`.
+//! under the PATHs (without a PATH: every test of the workspace) in workspace order, each on a
+//! fresh machine, and report like `cargo test`.
 //!
 //! * Exit status 0 when every selected test passed (also when none was selected), 1 when a
 //!   test failed or could not run, 2 for a usage error or unreadable input. Workspace
@@ -19,11 +20,13 @@ use std::fs;
 use std::io::{self, IsTerminal, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use higraph_analysis::lower::TestItem;
 use higraph_analysis::{AnalysisHost, FileId};
 use higraph_runtime::test::Outcome;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::output::{self, Reported, SourceFile, Sources};
 use super::paths::OutputPaths;
@@ -63,9 +66,12 @@ pub(crate) fn run(args: &TestArgs) -> Result<ExitCode, CliError> {
     let items = analysis
         .tests()
         .map_err(|_| CliError::new("the analysis was cancelled"))?;
+    // Without a PATH every test of the workspace runs (`runtime.md` §7: "default all"), also
+    // when the current folder is below the root.
+    let everything = args.paths.is_empty();
     let in_paths: Vec<TestItem> = items
         .into_iter()
-        .filter(|item| selected.get(&item.path).copied().unwrap_or(false))
+        .filter(|item| everything || selected.get(&item.path).copied().unwrap_or(false))
         .collect();
     let pattern = args.filter.as_deref().map(str::to_lowercase);
     let (tests, filtered): (Vec<TestItem>, Vec<TestItem>) =
@@ -95,8 +101,10 @@ pub(crate) fn run(args: &TestArgs) -> Result<ExitCode, CliError> {
             .as_bytes(),
         )?;
     }
+    let progress = Progress::start();
     let mut results = Vec::with_capacity(tests.len());
-    for item in &tests {
+    for (n, item) in tests.iter().enumerate() {
+        progress.running(n, tests.len(), &item.name);
         let result = testing::run_test(&analysis, item, trace_dir.is_some(), &|| false)
             .map_err(|_| CliError::new("the analysis was cancelled"))?
             .ok_or_else(|| CliError::new("the test run was cancelled"))?;
@@ -104,10 +112,11 @@ pub(crate) fn run(args: &TestArgs) -> Result<ExitCode, CliError> {
             write_traces(dir, &result)?;
         }
         if human {
-            write_stdout(status_line(&result).as_bytes())?;
+            progress.suspend(|| write_stdout(status_line(&result).as_bytes()))?;
         }
         results.push(result);
     }
+    progress.finish();
 
     let summary = SummaryJson {
         passed: count(&results, Outcome::Passed),
@@ -140,6 +149,71 @@ pub(crate) fn run(args: &TestArgs) -> Result<ExitCode, CliError> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// A spinner on stderr naming the running test, for runs that take longer than about half a
+/// second and only on a terminal (like `check`'s); a short run draws nothing.
+struct Progress {
+    bar: Option<ProgressBar>,
+    /// Set when the run is done; the thread that would show the bar checks it under the lock,
+    /// so the bar is never drawn after [`Progress::finish`].
+    done: Arc<Mutex<bool>>,
+}
+
+impl Progress {
+    fn start() -> Progress {
+        let done = Arc::new(Mutex::new(false));
+        if !io::stderr().is_terminal() {
+            return Progress { bar: None, done };
+        }
+        // Hidden at first: setting the style or message of a visible bar draws it.
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden()).with_style(
+            ProgressStyle::with_template("{spinner} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        let shown = bar.clone();
+        let shown_done = Arc::clone(&done);
+        std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(500));
+            let done = shown_done
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner());
+            if !*done {
+                shown.set_draw_target(ProgressDrawTarget::stderr());
+                shown.enable_steady_tick(Duration::from_millis(100));
+            }
+        });
+        Progress {
+            bar: Some(bar),
+            done,
+        }
+    }
+
+    fn running(&self, n: usize, total: usize, name: &str) {
+        if let Some(bar) = &self.bar {
+            bar.set_message(format!("running test {}/{total}: {name}", n + 1));
+        }
+    }
+
+    /// Runs `f` (a write to stdout) with the spinner out of the way.
+    fn suspend<T>(&self, f: impl FnOnce() -> T) -> T {
+        match &self.bar {
+            Some(bar) => bar.suspend(f),
+            None => f(),
+        }
+    }
+
+    fn finish(self) {
+        let mut done = self
+            .done
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        *done = true;
+        if let Some(bar) = self.bar {
+            // Erases the bar if it was shown; draws nothing if it was still hidden.
+            bar.finish_and_clear();
+        }
+    }
 }
 
 fn count(results: &[TestResult], outcome: Outcome) -> usize {

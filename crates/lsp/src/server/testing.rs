@@ -124,12 +124,9 @@ pub(crate) struct TestEntry {
     pub name_range: lsp::Range,
 }
 
-/// Parameters of `higraph/tests` (none are needed; any object is accepted).
-#[derive(Debug, serde::Deserialize)]
-pub(crate) struct TestListParams {}
-
-/// `higraph/tests`: every test of the workspace, in workspace order.
-pub(crate) fn list(snapshot: &Snapshot, _: Option<TestListParams>) -> HandlerResult<TestList> {
+/// `higraph/tests`: every test of the workspace, in workspace order. It needs no parameters
+/// and ignores any.
+pub(crate) fn list(snapshot: &Snapshot, _: Option<Json>) -> HandlerResult<TestList> {
     let tests = snapshot.analysis.tests()?;
     let tests = tests
         .iter()
