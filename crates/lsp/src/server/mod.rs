@@ -166,10 +166,7 @@ impl Backend {
     }
 
     /// The custom request `higraph/tests`: every test of the workspace.
-    async fn tests(
-        &self,
-        params: Option<serde_json::Value>,
-    ) -> jsonrpc::Result<testing::TestList> {
+    async fn tests(&self, params: Option<serde_json::Value>) -> jsonrpc::Result<testing::TestList> {
         self.answer("higraph/tests", params, testing::list).await
     }
 
