@@ -628,3 +628,14 @@ fn a_changed_expectation_of_e4_fails_where_it_should() {
         Some(1)
     );
 }
+
+#[test]
+fn the_drilling_example_test_passes() {
+    let run = run_in(&repo_root(), &["test", "examples/drilling"]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout.contains("test Bohrzyklus ... ok ("),
+        "{}",
+        run.stdout
+    );
+}
