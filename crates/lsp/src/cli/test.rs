@@ -112,7 +112,7 @@ pub(crate) fn run(args: &TestArgs) -> Result<ExitCode, CliError> {
             write_traces(dir, &result)?;
         }
         if human {
-            progress.suspend(|| write_stdout(status_line(&result).as_bytes()))?;
+            progress.suspend(|| write_stdout(status_line(&result, color).as_bytes()))?;
         }
         results.push(result);
     }
@@ -228,17 +228,31 @@ fn plural(n: u64, word: &str) -> String {
     }
 }
 
-/// `test NAME ... ok (35 cycles, 350 ms)` / `... FAILED` / `... ERROR`.
-fn status_line(result: &TestResult) -> String {
+/// `test NAME ... ok (35 cycles, 350 ms)` / `... FAILED` / `... ERROR`; with `color` the
+/// verdict green or red, as `cargo test` shows it.
+fn status_line(result: &TestResult, color: bool) -> String {
+    let name = &result.item.name;
     match result.outcome {
         Outcome::Passed => format!(
-            "test {} ... ok ({}, {} ms)\n",
-            result.item.name,
+            "test {name} ... {} ({}, {} ms)\n",
+            paint("ok", GREEN, color),
             plural(result.cycles, "cycle"),
             result.time_ms
         ),
-        Outcome::Failed => format!("test {} ... FAILED\n", result.item.name),
-        Outcome::Error => format!("test {} ... ERROR\n", result.item.name),
+        Outcome::Failed => format!("test {name} ... {}\n", paint("FAILED", RED, color)),
+        Outcome::Error => format!("test {name} ... {}\n", paint("ERROR", RED, color)),
+    }
+}
+
+const GREEN: &str = "\x1b[32m";
+const RED: &str = "\x1b[31m";
+
+/// `text` in an ANSI colour when `color`, else as it is.
+fn paint(text: &str, ansi: &str, color: bool) -> String {
+    if color {
+        format!("{ansi}{text}\x1b[0m")
+    } else {
+        text.to_string()
     }
 }
 
@@ -282,7 +296,11 @@ fn human_tail(
     let _ = writeln!(
         out,
         "test result: {}. {} passed; {} failed; {} error{}; {} filtered out",
-        if failing.is_empty() { "ok" } else { "FAILED" },
+        if failing.is_empty() {
+            paint("ok", GREEN, color)
+        } else {
+            paint("FAILED", RED, color)
+        },
         summary.passed,
         summary.failed,
         summary.errors,
