@@ -43,6 +43,7 @@ pub fn model_of(root: &SyntaxNode) -> String {
                 }
             }
             ast::Item::BlockInterface(block) => generic("block", block.syntax(), &mut out),
+            ast::Item::Test(test) => test_model(&test, &mut out),
         }
     }
     out
@@ -181,6 +182,15 @@ fn generic(kind: &str, node: &SyntaxNode, out: &mut String) {
         }
     }
     let _ = writeln!(out, "  header {}", header(node));
+}
+
+/// Tests: the header, then each statement in order (their order is their meaning).
+fn test_model(test: &ast::Test, out: &mut String) {
+    let name = test.name().map(|n| n.text()).unwrap_or_default();
+    let _ = writeln!(out, "test {name} {}", comment(test.comment()));
+    for stmt in test.statements() {
+        let _ = writeln!(out, "  {}", normalised(stmt.syntax()));
+    }
 }
 
 /// The significant tokens of a node before its body.

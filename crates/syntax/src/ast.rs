@@ -439,6 +439,58 @@ ast_node!(
     /// A chart operand path.
     Path, PATH
 );
+ast_node!(
+    /// `test NAME ["description"] < statements >`
+    Test, TEST
+);
+ast_node!(
+    /// `cycle T#10MS;`
+    TestCycle, TEST_CYCLE
+);
+ast_node!(
+    /// `run G, C;`
+    TestRun, TEST_RUN
+);
+ast_node!(
+    /// `set path := expr;`
+    TestSet, TEST_SET
+);
+ast_node!(
+    /// `step;` / `step N;`
+    TestStep, TEST_STEP
+);
+ast_node!(
+    /// `wait T#1S;`
+    TestWait, TEST_WAIT
+);
+ast_node!(
+    /// `until expr within T#1S ["message"];`
+    TestUntil, TEST_UNTIL
+);
+ast_node!(
+    /// `within T#1S` of an `until`.
+    WithinClause, WITHIN_CLAUSE
+);
+ast_node!(
+    /// `expect expr ["message"];`
+    TestExpect, TEST_EXPECT
+);
+ast_node!(
+    /// `command Chart start;`
+    TestCommand, TEST_COMMAND
+);
+ast_node!(
+    /// `confirm Chart.Step;`
+    TestConfirm, TEST_CONFIRM
+);
+ast_node!(
+    /// `restart cold;` / `restart warm;`
+    TestRestart, TEST_RESTART
+);
+ast_node!(
+    /// A path in a test: an address, or `NAME`/`"symbol"` followed by `.NAME` segments.
+    TestPath, TEST_PATH
+);
 
 // ---------------------------------------------------------------------------- enums
 
@@ -451,6 +503,7 @@ pub enum Item {
     Chart(Chart),
     Symbols(Symbols),
     BlockInterface(BlockInterface),
+    Test(Test),
 }
 
 impl Item {
@@ -462,6 +515,7 @@ impl Item {
             CHART => Item::Chart(Chart { syntax: node }),
             SYMBOLS => Item::Symbols(Symbols { syntax: node }),
             BLOCK_INTERFACE => Item::BlockInterface(BlockInterface { syntax: node }),
+            TEST => Item::Test(Test { syntax: node }),
             _ => return None,
         })
     }
@@ -474,6 +528,7 @@ impl Item {
             Item::Chart(it) => &it.syntax,
             Item::Symbols(it) => &it.syntax,
             Item::BlockInterface(it) => &it.syntax,
+            Item::Test(it) => &it.syntax,
         }
     }
 }
@@ -577,7 +632,7 @@ impl SeqElement {
     }
 }
 
-/// A chart expression.
+/// A chart or test expression (a test's operands are [`TestPath`]s, a chart's [`Path`]s).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Expr {
     Bin(BinExpr),
@@ -585,6 +640,7 @@ pub enum Expr {
     Paren(ParenExpr),
     Path(Path),
     Literal(Literal),
+    TestPath(TestPath),
 }
 
 impl Expr {
@@ -595,6 +651,7 @@ impl Expr {
             PAREN_EXPR => Expr::Paren(ParenExpr { syntax: node }),
             PATH => Expr::Path(Path { syntax: node }),
             LITERAL => Expr::Literal(Literal { syntax: node }),
+            TEST_PATH => Expr::TestPath(TestPath { syntax: node }),
             _ => return None,
         })
     }
@@ -606,6 +663,71 @@ impl Expr {
             Expr::Paren(it) => &it.syntax,
             Expr::Path(it) => &it.syntax,
             Expr::Literal(it) => &it.syntax,
+            Expr::TestPath(it) => &it.syntax,
+        }
+    }
+}
+
+/// A statement of a test body.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum TestStmt {
+    Cycle(TestCycle),
+    Run(TestRun),
+    Set(TestSet),
+    Step(TestStep),
+    Wait(TestWait),
+    Until(TestUntil),
+    Expect(TestExpect),
+    Command(TestCommand),
+    Confirm(TestConfirm),
+    Restart(TestRestart),
+}
+
+impl TestStmt {
+    pub fn cast(node: SyntaxNode) -> Option<TestStmt> {
+        Some(match node.kind() {
+            TEST_CYCLE => TestStmt::Cycle(TestCycle { syntax: node }),
+            TEST_RUN => TestStmt::Run(TestRun { syntax: node }),
+            TEST_SET => TestStmt::Set(TestSet { syntax: node }),
+            TEST_STEP => TestStmt::Step(TestStep { syntax: node }),
+            TEST_WAIT => TestStmt::Wait(TestWait { syntax: node }),
+            TEST_UNTIL => TestStmt::Until(TestUntil { syntax: node }),
+            TEST_EXPECT => TestStmt::Expect(TestExpect { syntax: node }),
+            TEST_COMMAND => TestStmt::Command(TestCommand { syntax: node }),
+            TEST_CONFIRM => TestStmt::Confirm(TestConfirm { syntax: node }),
+            TEST_RESTART => TestStmt::Restart(TestRestart { syntax: node }),
+            _ => return None,
+        })
+    }
+
+    pub fn syntax(&self) -> &SyntaxNode {
+        match self {
+            TestStmt::Cycle(it) => &it.syntax,
+            TestStmt::Run(it) => &it.syntax,
+            TestStmt::Set(it) => &it.syntax,
+            TestStmt::Step(it) => &it.syntax,
+            TestStmt::Wait(it) => &it.syntax,
+            TestStmt::Until(it) => &it.syntax,
+            TestStmt::Expect(it) => &it.syntax,
+            TestStmt::Command(it) => &it.syntax,
+            TestStmt::Confirm(it) => &it.syntax,
+            TestStmt::Restart(it) => &it.syntax,
+        }
+    }
+
+    /// The statement's keyword in lower case (`cycle`, `run`, ...).
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            TestStmt::Cycle(_) => "cycle",
+            TestStmt::Run(_) => "run",
+            TestStmt::Set(_) => "set",
+            TestStmt::Step(_) => "step",
+            TestStmt::Wait(_) => "wait",
+            TestStmt::Until(_) => "until",
+            TestStmt::Expect(_) => "expect",
+            TestStmt::Command(_) => "command",
+            TestStmt::Confirm(_) => "confirm",
+            TestStmt::Restart(_) => "restart",
         }
     }
 }
@@ -1344,6 +1466,153 @@ impl Path {
     }
 }
 
+impl Test {
+    pub fn name(&self) -> Option<Name> {
+        child(&self.syntax)
+    }
+    /// The description string after the name.
+    pub fn comment(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+    pub fn body(&self) -> Option<Body> {
+        child(&self.syntax)
+    }
+    /// The statements in text order.
+    pub fn statements(&self) -> impl Iterator<Item = TestStmt> + use<> {
+        self.body()
+            .into_iter()
+            .flat_map(|b| b.syntax.children().filter_map(TestStmt::cast))
+    }
+}
+
+impl TestCycle {
+    /// The cycle time (a `T#` constant).
+    pub fn time(&self) -> Option<Literal> {
+        child(&self.syntax)
+    }
+}
+
+impl TestWait {
+    /// The time to wait (a `T#` constant).
+    pub fn time(&self) -> Option<Literal> {
+        child(&self.syntax)
+    }
+}
+
+impl TestRun {
+    /// The groups and charts of the run list, in order.
+    pub fn entries(&self) -> impl Iterator<Item = NameRef> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl TestSet {
+    pub fn target(&self) -> Option<TestPath> {
+        child(&self.syntax)
+    }
+    pub fn value(&self) -> Option<Expr> {
+        self.syntax.children().filter_map(Expr::cast).nth(1)
+    }
+}
+
+impl TestStep {
+    /// The number of cycles as written (`None` for `step;`, meaning 1).
+    pub fn count(&self) -> Option<Terminal> {
+        Terminal::number_in(&self.syntax)
+    }
+}
+
+impl TestUntil {
+    pub fn condition(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+    pub fn within(&self) -> Option<WithinClause> {
+        child(&self.syntax)
+    }
+    /// The time limit (the constant of the `within` clause).
+    pub fn time(&self) -> Option<Literal> {
+        self.within().and_then(|w| child(&w.syntax))
+    }
+    /// The failure message.
+    pub fn message(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+}
+
+impl TestExpect {
+    pub fn condition(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+    /// The failure message.
+    pub fn message(&self) -> Option<CommentString> {
+        child(&self.syntax)
+    }
+}
+
+impl TestCommand {
+    pub fn chart(&self) -> Option<NameRef> {
+        children(&self.syntax).next()
+    }
+    pub fn command(&self) -> Option<NameRef> {
+        children(&self.syntax).nth(1)
+    }
+}
+
+impl TestConfirm {
+    pub fn path(&self) -> Option<TestPath> {
+        child(&self.syntax)
+    }
+}
+
+impl TestRestart {
+    /// `COLD_KW` or `WARM_KW`.
+    pub fn mode(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, COLD_KW).or_else(|| token(&self.syntax, WARM_KW))
+    }
+    /// Is it `restart warm`?
+    pub fn is_warm(&self) -> bool {
+        token(&self.syntax, WARM_KW).is_some()
+    }
+}
+
+impl TestPath {
+    /// An address path (`E 0.3`, `MW 10`, `DB1.DBX 0.1`).
+    pub fn address(&self) -> Option<Address> {
+        child(&self.syntax)
+    }
+    /// A quoted first segment (`"Motor 1".state`).
+    pub fn symbol(&self) -> Option<SymbolRef> {
+        child(&self.syntax)
+    }
+    /// The named segments, in order (the quoted first segment not included).
+    pub fn segments(&self) -> impl Iterator<Item = NameRef> + use<> {
+        children(&self.syntax)
+    }
+    /// Every segment's text (a quoted first one without its quotes) and range, in order;
+    /// empty for an address.
+    pub fn segment_texts(&self) -> Vec<(String, rowan::TextRange)> {
+        let mut out = Vec::new();
+        for node in self.syntax.children() {
+            match node.kind() {
+                SYMBOL_REF => {
+                    let symbol = SymbolRef {
+                        syntax: node.clone(),
+                    };
+                    out.push((symbol.name(), node.text_range()));
+                }
+                NAME_REF => {
+                    let name = NameRef {
+                        syntax: node.clone(),
+                    };
+                    out.push((name.text(), node.text_range()));
+                }
+                _ => {}
+            }
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1477,5 +1746,91 @@ mod tests {
             panic!("no jump")
         };
         assert_eq!(jump.target().map(|t| t.text()), Some("A".to_owned()));
+    }
+
+    #[test]
+    fn accessors_reach_the_parts_of_a_test() {
+        let parse = crate::parse(
+            "test T \"d\" < cycle T#5MS; run G, C; set \"S 1\".x := 1; step 3; step; \
+             wait T#1S; until C.state = Held within T#2S \"m\"; expect not E 0.1; \
+             command C start; confirm C.Seq.A; restart warm; >",
+        );
+        assert!(parse.errors().is_empty(), "{:?}", parse.errors());
+        let Some(Item::Test(test)) = parse.tree().items().next() else {
+            panic!("no test")
+        };
+        assert_eq!(test.name().map(|n| n.text()), Some("T".to_owned()));
+        assert_eq!(test.comment().map(|c| c.value()), Some("d".to_owned()));
+        let stmts: Vec<_> = test.statements().collect();
+        let keywords: Vec<_> = stmts.iter().map(|s| s.keyword()).collect();
+        assert_eq!(
+            keywords,
+            [
+                "cycle", "run", "set", "step", "step", "wait", "until", "expect", "command",
+                "confirm", "restart"
+            ]
+        );
+        let TestStmt::Cycle(cycle) = &stmts[0] else {
+            panic!("cycle")
+        };
+        assert_eq!(cycle.time().map(|l| l.text()), Some("T#5MS".to_owned()));
+        let TestStmt::Run(run) = &stmts[1] else {
+            panic!("run")
+        };
+        let entries: Vec<_> = run.entries().map(|n| n.text()).collect();
+        assert_eq!(entries, ["G", "C"]);
+        let TestStmt::Set(set) = &stmts[2] else {
+            panic!("set")
+        };
+        let segments: Vec<_> = set
+            .target()
+            .map(|t| t.segment_texts())
+            .unwrap_or_default()
+            .into_iter()
+            .map(|(s, _)| s)
+            .collect();
+        assert_eq!(segments, ["S 1", "x"]);
+        assert!(matches!(set.value(), Some(Expr::Literal(_))));
+        let TestStmt::Step(step) = &stmts[3] else {
+            panic!("step")
+        };
+        assert_eq!(step.count().map(|c| c.text().to_owned()), Some("3".into()));
+        let TestStmt::Step(step) = &stmts[4] else {
+            panic!("step")
+        };
+        assert!(step.count().is_none());
+        let TestStmt::Until(until) = &stmts[6] else {
+            panic!("until")
+        };
+        assert!(matches!(until.condition(), Some(Expr::Bin(_))));
+        assert_eq!(until.time().map(|l| l.text()), Some("T#2S".to_owned()));
+        assert_eq!(until.message().map(|m| m.value()), Some("m".to_owned()));
+        let TestStmt::Expect(expect) = &stmts[7] else {
+            panic!("expect")
+        };
+        let Some(Expr::Prefix(not)) = expect.condition() else {
+            panic!("not")
+        };
+        let Some(Expr::TestPath(path)) = not.operand() else {
+            panic!("path")
+        };
+        assert!(path.address().is_some());
+        assert!(expect.message().is_none());
+        let TestStmt::Command(command) = &stmts[8] else {
+            panic!("command")
+        };
+        assert_eq!(command.chart().map(|n| n.text()), Some("C".to_owned()));
+        assert_eq!(
+            command.command().map(|n| n.text()),
+            Some("start".to_owned())
+        );
+        let TestStmt::Confirm(confirm) = &stmts[9] else {
+            panic!("confirm")
+        };
+        assert_eq!(confirm.path().map(|p| p.segments().count()), Some(3));
+        let TestStmt::Restart(restart) = &stmts[10] else {
+            panic!("restart")
+        };
+        assert!(restart.is_warm());
     }
 }

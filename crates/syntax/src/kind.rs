@@ -129,6 +129,16 @@ pub enum SyntaxKind {
     BRANCH_KW,
     JUMP_KW,
     LOOP_KW,
+    TEST_KW,
+    CYCLE_KW,
+    SET_KW,
+    UNTIL_KW,
+    WITHIN_KW,
+    EXPECT_KW,
+    COMMAND_KW,
+    RESTART_KW,
+    COLD_KW,
+    WARM_KW,
     AND_KW,
     OR_KW,
     XOR_KW,
@@ -284,6 +294,32 @@ pub enum SyntaxKind {
     PATH,
     /// A chart operator spelled with two tokens: `<>`, `<=`, `>=`.
     COMPARE_OP,
+    /// `test NAME ["description"] < statements >`
+    TEST,
+    /// `cycle T#10MS;`
+    TEST_CYCLE,
+    /// `run G, C;`
+    TEST_RUN,
+    /// `set path := expr;`
+    TEST_SET,
+    /// `step;` / `step N;`
+    TEST_STEP,
+    /// `wait T#1S;`
+    TEST_WAIT,
+    /// `until expr within T#1S ["message"];`
+    TEST_UNTIL,
+    /// `within T#1S` of an `until`.
+    WITHIN_CLAUSE,
+    /// `expect expr ["message"];`
+    TEST_EXPECT,
+    /// `command Chart start;`
+    TEST_COMMAND,
+    /// `confirm Chart.Step;`
+    TEST_CONFIRM,
+    /// `restart cold;` / `restart warm;`
+    TEST_RESTART,
+    /// A path in a test: `(NAME | "symbol") { . NAME }` or an address.
+    TEST_PATH,
     #[doc(hidden)]
     __LAST,
 }
@@ -307,7 +343,7 @@ impl SyntaxKind {
     }
 
     /// Every contextual keyword with its spelling in lower case, in the order of the enum.
-    pub const KEYWORDS: [(&'static str, SyntaxKind); 54] = [
+    pub const KEYWORDS: [(&'static str, SyntaxKind); 64] = [
         ("mnemonic", MNEMONIC_KW),
         ("simatic", SIMATIC_KW),
         ("international", INTERNATIONAL_KW),
@@ -358,6 +394,16 @@ impl SyntaxKind {
         ("branch", BRANCH_KW),
         ("jump", JUMP_KW),
         ("loop", LOOP_KW),
+        ("test", TEST_KW),
+        ("cycle", CYCLE_KW),
+        ("set", SET_KW),
+        ("until", UNTIL_KW),
+        ("within", WITHIN_KW),
+        ("expect", EXPECT_KW),
+        ("command", COMMAND_KW),
+        ("restart", RESTART_KW),
+        ("cold", COLD_KW),
+        ("warm", WARM_KW),
         ("and", AND_KW),
         ("or", OR_KW),
         ("xor", XOR_KW),
@@ -381,30 +427,36 @@ impl SyntaxKind {
             (3, b'o') => &[("out", OUT_KW)],
             (3, b'p') => &[("pre", PRE_KW)],
             (3, b'r') => &[("run", RUN_KW)],
+            (3, b's') => &[("set", SET_KW)],
             (3, b'x') => &[("xor", XOR_KW)],
             (4, b'a') => &[("auto", AUTO_KW)],
+            (4, b'c') => &[("cold", COLD_KW)],
             (4, b'i') => &[("init", INIT_KW)],
             (4, b'j') => &[("jump", JUMP_KW)],
             (4, b'l') => &[("loop", LOOP_KW)],
             (4, b'm') => &[("mode", MODE_KW)],
             (4, b'p') => &[("prio", PRIO_KW), ("post", POST_KW)],
             (4, b's') => &[("stat", STAT_KW), ("step", STEP_KW)],
-            (4, b't') => &[("type", TYPE_KW), ("term", TERM_KW)],
-            (4, b'w') => &[("wait", WAIT_KW)],
+            (4, b't') => &[("type", TYPE_KW), ("term", TERM_KW), ("test", TEST_KW)],
+            (4, b'w') => &[("wait", WAIT_KW), ("warm", WARM_KW)],
             (5, b'b') => &[("block", BLOCK_KW)],
-            (5, b'c') => &[("chart", CHART_KW)],
+            (5, b'c') => &[("chart", CHART_KW), ("cycle", CYCLE_KW)],
             (5, b'f') => &[("fault", FAULT_KW)],
             (5, b'g') => &[("graph", GRAPH_KW), ("group", GROUP_KW)],
             (5, b's') => &[("state", STATE_KW), ("start", START_KW)],
             (5, b't') => &[("trans", TRANS_KW)],
+            (5, b'u') => &[("until", UNTIL_KW)],
             (5, b'w') => &[("waits", WAITS_KW)],
             (6, b'b') => &[("branch", BRANCH_KW)],
+            (6, b'e') => &[("expect", EXPECT_KW)],
             (6, b'i') => &[("in_out", IN_OUT_KW)],
             (6, b'm') => &[("manual", MANUAL_KW)],
             (6, b'o') => &[("option", OPTION_KW)],
             (6, b'r') => &[("return", RETURN_KW)],
-            (7, b'c') => &[("confirm", CONFIRM_KW)],
+            (6, b'w') => &[("within", WITHIN_KW)],
+            (7, b'c') => &[("confirm", CONFIRM_KW), ("command", COMMAND_KW)],
             (7, b'm') => &[("message", MESSAGE_KW)],
+            (7, b'r') => &[("restart", RESTART_KW)],
             (7, b's') => &[("simatic", SIMATIC_KW), ("symbols", SYMBOLS_KW)],
             (8, b'a') => &[("activate", ACTIVATE_KW)],
             (8, b'i') => &[("instance", INSTANCE_KW)],

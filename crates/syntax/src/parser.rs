@@ -17,6 +17,7 @@ mod graph;
 mod group;
 mod items;
 mod stl;
+mod test;
 
 use std::fmt;
 
@@ -166,6 +167,8 @@ pub(crate) struct Parser<'t> {
     recoveries: usize,
     /// Nesting levels open here ([`NESTING_LIMIT`]).
     depth: u32,
+    /// Inside the body of a `test`: expression paths are test paths (`TEST_PATH`).
+    pub(crate) in_test: bool,
 }
 
 impl<'t> Parser<'t> {
@@ -286,6 +289,7 @@ impl<'t> Parser<'t> {
             errors,
             recoveries: 0,
             depth: 0,
+            in_test: false,
         }
     }
 
@@ -357,6 +361,12 @@ impl<'t> Parser<'t> {
     #[inline]
     pub(crate) fn nth_is_kw(&self, n: usize, kw: SyntaxKind) -> bool {
         self.nth_token(n).is_some_and(|t| t.keyword == kw)
+    }
+
+    /// The keyword the `n`th token is spelled like; `IDENT` if none (and for other tokens).
+    #[inline]
+    pub(crate) fn nth_keyword(&self, n: usize) -> SyntaxKind {
+        self.nth_token(n).map_or(IDENT, |t| t.keyword)
     }
 
     #[inline]
@@ -769,6 +779,7 @@ impl<'t> Parser<'t> {
             GRAPH_KW | GROUP_KW | CHART_KW | BLOCK_KW => {
                 self.nth_is_name(n + 1) || self.nth(n + 1) == STRING
             }
+            TEST_KW => self.nth_is_name(n + 1),
             SYMBOLS_KW => self.nth_opens_body(n + 1),
             MNEMONIC_KW => {
                 self.nth_is_kw(n + 1, SIMATIC_KW) || self.nth_is_kw(n + 1, INTERNATIONAL_KW)

@@ -36,6 +36,9 @@ const EVERYWHERE: &[&str] = &[
     "chart {NAME} \"c\" <\n  in < {NAME} : BOOL; >\n  out < {NAME} : BOOL; >\n  sequencer {NAME} prio 1 <\n    step {NAME} \"c\" < >\n    trans {NAME} \"c\" < >\n    jump {NAME} -> {NAME_REF} < >\n    step B < >\n    loop {NAME} -> {NAME_REF} < >\n    parallel < branch < step {NAME} < > > branch < step X < > > >\n    alt < branch < trans {NAME} < > > branch < trans Y < > > >\n  >\n  sequencer {NAME} < step A < > >\n>\n",
     "chart type {NAME} < in < {NAME} : BOOL; > >",
     "chart {NAME} < sequencer {NAME} < step {NAME} < > trans {NAME} < > step B < > > >",
+    // Tests: names, run lists, commands (the positions outside expressions).
+    "test {NAME} \"c\" <\n  run {NAME_REF}, {NAME_REF};\n  command {NAME_REF} {NAME_REF};\n>\n",
+    "graph G < state 0 < > > test {NAME} < run {NAME_REF}; step; >",
 ];
 
 /// Positions inside chart expressions. `and`, `or`, `xor` and `not` are the operators there
@@ -43,6 +46,8 @@ const EVERYWHERE: &[&str] = &[
 const CHART_EXPRESSIONS: &[&str] = &[
     "chart C <\n  run {NAME_REF};\n  sequencer S <\n    start < {NAME_REF}; >\n    pre < {NAME_REF} := {NAME_REF}; >\n    post < {NAME_REF}.{NAME_REF} := 1; >\n    step A <\n      init < {NAME_REF}.{NAME_REF} := {NAME_REF}; >\n      run < {NAME_REF} := 1; >\n      N {NAME_REF};\n      L {NAME_REF}, {NAME_REF};\n      max {NAME_REF};\n    >\n    trans T1 < {NAME_REF} and not {NAME_REF} or {NAME_REF} >= 1 xor {NAME_REF} = {NAME_REF}; >\n    trans T2 < ({NAME_REF}); {NAME_REF} > {NAME_REF}; {NAME_REF} <> 2; >\n    step B < >\n  >\n>\n",
     "chart C < sequencer S < step A < > trans T < {NAME_REF} and {NAME_REF}; > step B < > > >",
+    // Test paths and expressions.
+    "test T <\n  set {NAME_REF}.{NAME_REF} := {NAME_REF};\n  set \"s\".{NAME_REF} := not {NAME_REF};\n  expect {NAME_REF} = {NAME_REF} \"m\";\n  until {NAME_REF}.{NAME_REF} within T#1S;\n  confirm {NAME_REF}.{NAME_REF}.{NAME_REF};\n  expect ({NAME_REF} or {NAME_REF}) and {NAME_REF} > 1;\n>\n",
 ];
 
 /// Jump labels (`NAME:` at statement start, parsed so that HG4003 can report them). `wait`
@@ -149,4 +154,5 @@ fn every_keyword_but_wait_and_supervise_is_a_jump_label() {
 fn a_keyword_where_the_grammar_wants_it_is_no_name() {
     assert!(check("graph G < {NAME} 0 < > >", "state").is_err());
     assert!(check("graph G < state 0 < C: U X; > {NAME} 0 < > >", "state").is_err());
+    assert!(check("test T < {NAME_REF} x; >", "expect").is_err());
 }

@@ -60,6 +60,8 @@ const INSERTS: &[&str] = &[
     "S5T#",
     "=",
     ")",
+    "test T <",
+    "expect x;",
 ];
 
 #[test]

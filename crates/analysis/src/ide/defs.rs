@@ -242,7 +242,8 @@ pub(crate) fn item_uses<'db>(
                 walker.block_ref(&block);
             }
         }
-        Some(ast::Item::Symbols(_) | ast::Item::Mnemonic(_)) | None => {}
+        // Test paths are resolved by the lowering (`lower/`), not here.
+        Some(ast::Item::Symbols(_) | ast::Item::Mnemonic(_) | ast::Item::Test(_)) | None => {}
     }
     ItemUses { uses: walker.uses }
 }

@@ -151,6 +151,7 @@ pub(crate) fn item_outline<'db>(
         ast::Item::Chart(chart) => Some(chart_outline(&chart)),
         ast::Item::Symbols(table) => Some(symbols_outline(&table)),
         ast::Item::BlockInterface(interface) => Some(interface_outline(&interface)),
+        ast::Item::Test(_) => None,
         ast::Item::Mnemonic(_) => None,
     }
 }

@@ -4,9 +4,18 @@
 //! maps each [`Origin`] back to a file range (for failures, faults and traces).
 
 use higraph_runtime::Program;
-use higraph_runtime::program::Origin;
+use higraph_runtime::program::{Origin, RunEntry};
 
+use crate::db::ItemKind;
 use crate::{Analysis, Cancellable, Diagnostic, TextRange};
+
+mod build;
+mod chart;
+mod dump;
+mod graph;
+mod values;
+
+pub use build::dump;
 
 /// A `test` item of the workspace.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -21,7 +30,7 @@ pub struct TestItem {
 }
 
 /// A test ready to run.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct LoweredTest {
     pub program: Program,
     /// `origins[o]` is the file path and range of `Origin(o)`.
@@ -36,6 +45,29 @@ impl LoweredTest {
 }
 
 impl Analysis {
+    /// Lowers every group and plain chart of the workspace (the default run list, in
+    /// workspace order) without a test: what benchmarks and the simulator's own tests run.
+    pub fn lower_workspace(&self) -> Cancellable<LoweredTest> {
+        self.with_db(|db, ws| {
+            let mut lw = build::Lowerer::new(db, ws);
+            let mut run = Vec::new();
+            for (kind, file, item) in lw.default_run() {
+                match kind {
+                    ItemKind::Group => run.extend(lw.group(file, item).map(RunEntry::Group)),
+                    ItemKind::Chart => {
+                        run.extend(lw.chart(file, item).map(|(c, _)| RunEntry::Chart(c)))
+                    }
+                    _ => {}
+                }
+            }
+            let _ = run;
+            LoweredTest {
+                program: lw.program,
+                origins: lw.origins,
+            }
+        })
+    }
+
     /// Every `test` item, in workspace order (files in workspace order, items in text order).
     pub fn tests(&self) -> Cancellable<Vec<TestItem>> {
         todo!("lower: test items")

@@ -156,6 +156,7 @@ pub(crate) fn check_item(
             decls::check_block_interface(&mut ctx, &interface);
             symbols::check_block_interface(&mut ctx, &interface);
         }
+        Some(ast::Item::Test(_)) => {}
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
     if is_later_duplicate(&ctx, item_node.as_ref()) {

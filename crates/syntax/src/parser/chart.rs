@@ -383,7 +383,7 @@ fn at_operand(p: &Parser<'_>) -> bool {
 /// (`Parser::error_too_deep`) and its part of the expression stays flat in an ERROR node. A
 /// left-associative chain (`a or b or c ...`) nests its left operand one level deeper with
 /// every operator, which is why the heights are needed and not only the open levels.
-fn expr(p: &mut Parser<'_>) -> Option<u32> {
+pub(crate) fn expr(p: &mut Parser<'_>) -> Option<u32> {
     binary(p, 0)
 }
 
@@ -533,10 +533,14 @@ fn too_deep_operand(p: &mut Parser<'_>) -> u32 {
     0
 }
 
-/// An operand in a chart: a constant, an address, `"symbol"` or a dotted path.
+/// An operand in a chart: a constant, an address, `"symbol"` or a dotted path; in a test, a
+/// constant or a test path.
 fn chart_operand(p: &mut Parser<'_>) -> bool {
     if stl::literal(p) {
         return true;
+    }
+    if p.in_test {
+        return super::test::test_path(p);
     }
     path(p)
 }

@@ -3,7 +3,7 @@
 
 use rowan::TextRange;
 
-use super::{Parser, Scope, chart, graph, group, lazy, stl};
+use super::{Parser, Scope, chart, graph, group, lazy, stl, test};
 use crate::{SyntaxError, SyntaxKind::*, error::ErrorCode};
 
 pub(crate) fn source_file(p: &mut Parser<'_>) {
@@ -33,7 +33,7 @@ pub(crate) fn source_file(p: &mut Parser<'_>) {
             );
         } else if !item(p) {
             p.error_expected(
-                "an item ('graph', 'group', 'chart', 'symbols', 'block' or 'mnemonic')",
+                "an item ('graph', 'group', 'chart', 'symbols', 'block', 'test' or 'mnemonic')",
             );
             recover_item(p);
         }
@@ -119,6 +119,8 @@ fn item(p: &mut Parser<'_>) -> bool {
         symbols(p);
     } else if p.at_kw(BLOCK_KW) {
         block_interface(p);
+    } else if p.at_kw(TEST_KW) {
+        test::test(p);
     } else {
         return false;
     }

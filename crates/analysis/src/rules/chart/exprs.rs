@@ -371,6 +371,8 @@ impl<'c, 'a> Walker<'c, 'a> {
     fn expr(&mut self, expr: &ast::Expr, report: bool) -> Ty {
         match expr {
             ast::Expr::Literal(literal) => literal_ty(literal),
+            // Only tests have test paths.
+            ast::Expr::TestPath(_) => Ty::Unknown,
             ast::Expr::Path(path) => {
                 let target =
                     operands::resolve(self.ctx, self.scope, path, Unresolved::Operand, report);

@@ -164,7 +164,7 @@ fn condition_limit(ctx: &mut Ctx<'_>, node: &SyntaxNode, element: &str, range: T
 /// comparison counts once; `not` and parentheses do not count.
 fn atomic_conditions(expr: &ast::Expr) -> usize {
     match expr {
-        ast::Expr::Path(_) | ast::Expr::Literal(_) => 1,
+        ast::Expr::Path(_) | ast::Expr::Literal(_) | ast::Expr::TestPath(_) => 1,
         ast::Expr::Paren(p) => p.expr().map_or(0, |e| atomic_conditions(&e)),
         ast::Expr::Prefix(p) => p.operand().map_or(0, |e| atomic_conditions(&e)),
         ast::Expr::Bin(b) => {
