@@ -85,6 +85,8 @@ pub enum ItemKind {
     Chart,
     Symbols,
     BlockInterface,
+    /// A `test` item (`runtime.md` §5); test names have their own namespace.
+    Test,
 }
 
 /// Per item: its kind and name. Position-independent, so edits inside items leave it equal.
@@ -101,6 +103,8 @@ pub struct ItemSummary {
     pub name: Option<String>,
     /// The name token, relative to the item's start.
     pub name_range: Option<TextRange>,
+    /// A chart type (`chart type NAME`), which no test can run.
+    pub chart_type: bool,
 }
 
 /// The database. Clones are cheap snapshots for concurrent readers.
@@ -151,6 +155,7 @@ fn item_kind(kind: SyntaxKind) -> Option<ItemKind> {
         SyntaxKind::CHART => ItemKind::Chart,
         SyntaxKind::SYMBOLS => ItemKind::Symbols,
         SyntaxKind::BLOCK_INTERFACE => ItemKind::BlockInterface,
+        SyntaxKind::TEST => ItemKind::Test,
         _ => return None,
     })
 }
@@ -165,10 +170,15 @@ pub fn file_summary(db: &dyn salsa::Database, file: File) -> FileSummary {
             continue;
         };
         let start = node.text_range().start();
+        let mut chart_type = false;
         let name_node = match ast::Item::cast(node.clone()) {
             Some(ast::Item::Graph(g)) => g.name(),
             Some(ast::Item::Group(g)) => g.name(),
-            Some(ast::Item::Chart(c)) => c.name(),
+            Some(ast::Item::Chart(c)) => {
+                chart_type = c.is_type();
+                c.name()
+            }
+            Some(ast::Item::Test(t)) => t.name(),
             Some(ast::Item::Mnemonic(m)) => {
                 let set = m.set().and_then(|t| Mnemonic::parse(t.text()));
                 if summary.mnemonic.is_none() {
@@ -186,6 +196,7 @@ pub fn file_summary(db: &dyn salsa::Database, file: File) -> FileSummary {
             kind,
             name,
             name_range,
+            chart_type,
         });
     }
     summary

@@ -39,7 +39,9 @@
 //!   `pre`, `post`, `init`, `run` or `term` body holding at most one entry (condition,
 //!   statement, step item) stays on one line, like state bodies; sequencers, `parallel`,
 //!   `alt`, `branch`, graphs, groups, instances, symbol tables and block interfaces are always
-//!   one member per line; an empty body is written `< >`.
+//!   one member per line; an empty body is written `< >`;
+//! * tests: one statement per line (`runtime.md` §5.1), also for a short test; keywords
+//!   (`restart cold`) in lower case, paths, command names and messages as written.
 //!
 //! Line endings: the output uses the line ending of the input's first line break (CR LF or
 //! LF; a file without line breaks, or with a lone CR first, gets LF), so Windows files stay
@@ -687,7 +689,7 @@ const JOINED: &[SyntaxKind] = &[
 
 /// Kinds whose tokens keep the spacing of the input (touching or one space), because the
 /// spacing is part of what they mean (`E 1.0` vs `E1.0`, `-5`).
-const PRESERVED: &[SyntaxKind] = &[ADDRESS, LITERAL, INDIRECT, PATH, MESSAGE_TARGET];
+const PRESERVED: &[SyntaxKind] = &[ADDRESS, LITERAL, INDIRECT, PATH, TEST_PATH, MESSAGE_TARGET];
 
 /// An identifier inside an address that is an area of either mnemonic set (Appendix A.2),
 /// optionally followed by digits (`E`, `MW`, `DB10`, `DBX5`, `E1`).

@@ -25,6 +25,8 @@ pub struct GlobalItem {
     pub item: u32,
     /// The name token (relative to the item).
     pub name_loc: Loc,
+    /// A chart type (`chart type NAME`).
+    pub chart_type: bool,
 }
 
 /// Where a symbol comes from.
@@ -77,7 +79,10 @@ pub struct GlobalIndex {
     /// Symbols in workspace order (imports last).
     pub symbols: Vec<Symbol>,
     pub block_interfaces: Vec<BlockInterfaceEntry>,
+    /// Tests in workspace order: a namespace of their own (`runtime.md` §5.1, HG9002).
+    pub tests: Vec<GlobalItem>,
     items_by_name: HashMap<String, Vec<usize>>,
+    tests_by_name: HashMap<String, usize>,
     symbols_by_name: HashMap<String, Vec<usize>>,
 }
 
@@ -102,6 +107,19 @@ impl GlobalIndex {
                                 file,
                                 item: i,
                                 name_loc: Loc::in_item(file, i, range),
+                                chart_type: item.chart_type,
+                            });
+                        }
+                    }
+                    ItemKind::Test => {
+                        if let (Some(name), Some(range)) = (&item.name, item.name_range) {
+                            index.tests.push(GlobalItem {
+                                kind: item.kind,
+                                name: name.clone(),
+                                file,
+                                item: i,
+                                name_loc: Loc::in_item(file, i, range),
+                                chart_type: false,
                             });
                         }
                     }
@@ -131,6 +149,9 @@ impl GlobalIndex {
                 .or_default()
                 .push(i);
         }
+        for (i, test) in index.tests.iter().enumerate() {
+            index.tests_by_name.entry(key(&test.name)).or_insert(i);
+        }
         for (i, symbol) in index.symbols.iter().enumerate() {
             index
                 .symbols_by_name
@@ -156,6 +177,11 @@ impl GlobalIndex {
             .into_iter()
             .flatten()
             .map(|&i| &self.items[i])
+    }
+
+    /// The first test of that name (case-insensitive), in workspace order.
+    pub fn test(&self, name: &str) -> Option<&GlobalItem> {
+        self.tests_by_name.get(&key(name)).map(|&i| &self.tests[i])
     }
 
     /// The first graph of that name.

@@ -6,7 +6,9 @@
 //! * HG0010 — the directive is moved to the top, not deleted;
 //! * HG1101, HG1102 — the rename reaches every reference, in every file (the workspace rename
 //!   engine);
-//! * HG4001 — the fix labels every unlabelled block of the diagnostic's range.
+//! * HG4001 — the fix labels every unlabelled block of the diagnostic's range;
+//! * HG9001 — a statement moved to the top of its test is not lost on the way;
+//! * HG9006, HG9007 — a replaced or removed run-list entry leaves a well-formed list.
 
 mod common;
 
@@ -14,7 +16,9 @@ use std::{collections::BTreeMap, fs, path::Path};
 
 use higraph_analysis::{AnalysisHost, Diagnostic};
 
-const CODES: &[&str] = &["HG0010", "HG1101", "HG1102", "HG4001"];
+const CODES: &[&str] = &[
+    "HG0010", "HG1101", "HG1102", "HG4001", "HG9001", "HG9006", "HG9007",
+];
 
 /// Every diagnostic with the path of its file.
 fn diagnostics(host: &AnalysisHost) -> Vec<(String, Diagnostic)> {

@@ -24,6 +24,14 @@ fn dir_names(dir: &Path) -> BTreeSet<String> {
         .collect()
 }
 
+/// Codes registered and documented whose fixtures other parts of the work add: the test
+/// paths, values and types (HG91xx) come with the lowering, the results (HG99xx, run through
+/// `higraph-lsp test`) with the runner. Remove a code here when its fixtures land.
+const FIXTURES_PENDING: &[&str] = &[
+    "HG9101", "HG9102", "HG9103", "HG9104", "HG9105", "HG9106", "HG9107", "HG9108", "HG9109",
+    "HG9110", "HG9111", "HG9901", "HG9902", "HG9903", "HG9904",
+];
+
 /// Codes that have both a failing and a passing fixture.
 fn fixture_codes() -> BTreeSet<String> {
     let mut codes = BTreeSet::new();
@@ -50,7 +58,13 @@ fn registry_docs_and_fixtures_cover_the_same_codes() {
         .into_iter()
         .filter_map(|f| f.strip_suffix(".md").map(str::to_owned))
         .collect();
-    let fixtures = fixture_codes();
+    let mut fixtures = fixture_codes();
+    for code in FIXTURES_PENDING {
+        assert!(
+            fixtures.insert((*code).to_owned()),
+            "{code} has fixtures now: remove it from FIXTURES_PENDING"
+        );
+    }
     let missing_docs: Vec<_> = registry.difference(&docs).collect();
     let extra_docs: Vec<_> = docs.difference(&registry).collect();
     let missing_fixtures: Vec<_> = registry.difference(&fixtures).collect();

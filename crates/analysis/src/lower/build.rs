@@ -10,35 +10,18 @@ use std::collections::HashMap;
 use higraph_runtime::Program;
 use higraph_runtime::program::{
     BlockId, BlockInfo, CellId, CellInfo, CounterId, Group, GroupOptions, Instance,
-    InternalMessage, Origin, Place, Predef, TimerId, VarIdx,
+    InternalMessage, Origin, Place, TimerId, VarIdx,
 };
 use higraph_runtime::value::{Ty, Value};
 use higraph_syntax::{TextRange, ast};
 
 use super::graph::{GraphLowering, GraphMeta};
 use super::values;
-use crate::db::{self, File, ItemKind, ItemLoc, Workspace};
+use crate::db::{self, File, ItemLoc, Workspace};
 use crate::index::{self, GlobalIndex};
 use crate::lang::Mnemonic;
 use crate::rules::Ctx;
 use crate::rules::group::actuals::{self, Value as ActualValue};
-
-/// A lowered group, for test paths.
-#[derive(Debug, Clone)]
-pub(crate) struct GroupMeta {
-    pub file: File,
-    pub item: u32,
-    /// Per instance: its name range (item-relative) and its graph's meta index.
-    pub instances: Vec<InstanceMeta>,
-}
-
-#[derive(Debug, Clone)]
-pub(crate) struct InstanceMeta {
-    pub name: String,
-    pub name_range: TextRange,
-    /// Index into [`Lowerer::graph_meta`]; `None` when the graph does not exist.
-    pub graph: Option<usize>,
-}
 
 /// The lowering of one program.
 pub(crate) struct Lowerer<'a> {
@@ -50,7 +33,6 @@ pub(crate) struct Lowerer<'a> {
     /// Graph items lowered, by (file, item index).
     graphs: HashMap<(File, u32), u32>,
     pub graph_meta: Vec<GraphMeta>,
-    pub group_meta: Vec<GroupMeta>,
     /// Blocks by key (normalised address, else upper-case symbol name).
     blocks: HashMap<String, BlockId>,
     /// External references of charts by upper-case text: one cell each.
@@ -67,7 +49,6 @@ impl<'a> Lowerer<'a> {
             origins: Vec::new(),
             graphs: HashMap::new(),
             graph_meta: Vec::new(),
-            group_meta: Vec::new(),
             blocks: HashMap::new(),
             externals: HashMap::new(),
         }
@@ -102,34 +83,6 @@ impl<'a> Lowerer<'a> {
         id
     }
 
-    /// The block a test path's first segment names, if a call already registered it or the
-    /// name is a callable block (symbol or address).
-    pub fn block_named(&mut self, text: &str, mnemonic: Mnemonic) -> Option<BlockId> {
-        let (key, name) = self.block_key(text, mnemonic)?;
-        Some(self.block(key, name))
-    }
-
-    /// The key and canonical name of a block reference written as `text` (an address with or
-    /// without spaces, or a symbol name without quotes).
-    pub fn block_key(&self, text: &str, mnemonic: Mnemonic) -> Option<(String, String)> {
-        let compact: String = text.split_whitespace().collect();
-        if let Some(address) = index::read_address(&compact, mnemonic)
-            && address.block_kind().is_some_and(|k| k.is_callable())
-        {
-            let shown = address.display(Mnemonic::Simatic).replace(' ', "");
-            return Some((shown.clone(), shown));
-        }
-        let symbol = self.index.symbol(text)?;
-        match &symbol.address {
-            Some(a) if a.block_kind().is_some_and(|k| k.is_callable()) => Some((
-                a.display(Mnemonic::Simatic).replace(' ', ""),
-                symbol.name.clone(),
-            )),
-            Some(_) => None,
-            None => Some((index::key(&symbol.name), symbol.name.clone())),
-        }
-    }
-
     /// The block of a `CALL`/`CC` target.
     pub fn block_of_ref(&mut self, target: &ast::BlockRef, mnemonic: Mnemonic) -> Option<BlockId> {
         let text = if let Some(address) = target.address() {
@@ -139,7 +92,7 @@ impl<'a> Lowerer<'a> {
         } else {
             target.symbol_ref()?.name()
         };
-        let (key, name) = self.block_key(&text, mnemonic)?;
+        let (key, name) = super::paths::block_key(self.index, &text, mnemonic)?;
         Some(self.block(key, name))
     }
 
@@ -195,11 +148,9 @@ impl<'a> Lowerer<'a> {
         // First pass: every instance (the first of each name, C3) with its graph and own
         // cells.
         let mut instances: Vec<(ast::Instance, Instance, Option<usize>)> = Vec::new();
-        let mut metas = Vec::new();
         let mut by_name: HashMap<String, usize> = HashMap::new();
         for node in group.instances() {
             let Some(name) = node.name() else { continue };
-            let Some(token) = name.token() else { continue };
             let key = index::key(&name.text());
             if by_name.contains_key(&key) {
                 continue;
@@ -210,11 +161,6 @@ impl<'a> Lowerer<'a> {
                 .map(|g| (g.file, g.item));
             let graph = graph_item.and_then(|(f, i)| self.graph(f, i));
             let Some(graph) = graph else {
-                metas.push(InstanceMeta {
-                    name: name.text(),
-                    name_range: token.text_range(),
-                    graph: None,
-                });
                 continue;
             };
             let vars = self.program.graphs[graph as usize].vars.clone();
@@ -223,11 +169,6 @@ impl<'a> Lowerer<'a> {
                 .map(|v| Place::Cell(self.cell(v.ty, v.init.clone())))
                 .collect();
             by_name.insert(key, instances.len());
-            metas.push(InstanceMeta {
-                name: name.text(),
-                name_range: token.text_range(),
-                graph: Some(graph as usize),
-            });
             instances.push((
                 node,
                 Instance {
@@ -333,51 +274,7 @@ impl<'a> Lowerer<'a> {
             instances: instances.into_iter().map(|(_, i, _)| i).collect(),
             internal_messages: internal,
         });
-        self.group_meta.push(GroupMeta {
-            file,
-            item,
-            instances: metas.into_iter().filter(|m| m.graph.is_some()).collect(),
-        });
         Some((self.program.groups.len() - 1) as u32)
-    }
-
-    /// Every group and plain chart of the workspace, in workspace order.
-    pub fn default_run(&self) -> Vec<(ItemKind, File, u32)> {
-        self.index
-            .items
-            .iter()
-            .filter(|i| matches!(i.kind, ItemKind::Group | ItemKind::Chart))
-            .filter(|i| {
-                // First of its name only (C3), and plain charts only.
-                self.index
-                    .items_named(&i.name)
-                    .next()
-                    .is_some_and(|first| first.file == i.file && first.item == i.item)
-            })
-            .filter(|i| i.kind != ItemKind::Chart || !self.is_chart_type(i.file, i.item))
-            .map(|i| (i.kind, i.file, i.item))
-            .collect()
-    }
-
-    /// Is the chart item a `chart type`?
-    pub fn is_chart_type(&self, file: File, item: u32) -> bool {
-        let loc = ItemLoc::new(self.db, file, item);
-        matches!(
-            db::item_root(self.db, loc).and_then(ast::Item::cast),
-            Some(ast::Item::Chart(c)) if c.is_type()
-        )
-    }
-
-    /// Where the predefined variable `p` of instance `i` of group `g` lives.
-    #[allow(dead_code)]
-    pub fn predef_place(&self, g: u32, i: u32, p: Predef) -> Option<&Place> {
-        self.program
-            .groups
-            .get(g as usize)?
-            .instances
-            .get(i as usize)?
-            .binding
-            .get(p.var() as usize)
     }
 
     /// The place of variable `var` of instance `i` of group `g`.

@@ -21,18 +21,6 @@ use crate::rules::chart::model::{Kind, Tree};
 use crate::rules::chart::operands::{self, Target, Unresolved};
 use crate::rules::chart::{ChartInfo, Scope, header_range};
 
-/// A lowered chart, for test paths.
-#[derive(Debug, Clone)]
-pub(crate) struct ChartMeta {
-    pub file: File,
-    pub item: u32,
-    /// Per sequencer: its name and its steps' names (in `Sequencer::steps` order) with their
-    /// name ranges (item-relative).
-    pub sequencers: Vec<(String, Vec<(String, TextRange)>)>,
-    /// Variables: upper-case name → (cell, type, name range).
-    pub vars: HashMap<String, (u32, Ty, TextRange)>,
-}
-
 /// The `SFC.` flag of a name.
 pub(crate) fn sfc_flag(name: &str) -> Option<SfcFlag> {
     use SfcFlag::*;
@@ -174,6 +162,7 @@ impl ChartLowering<'_, '_> {
                 }
             }
             ast::Expr::Paren(p) => p.expr().and_then(|e| self.static_ty(&e)),
+            ast::Expr::TestPath(_) => None,
             ast::Expr::Prefix(_) | ast::Expr::Bin(_) => Some(Ty::Bool),
         }
     }
@@ -187,6 +176,7 @@ impl ChartLowering<'_, '_> {
                 Expr::Const(values::value_in(&lit, ty)?)
             }
             ast::Expr::Path(path) => Expr::Read(self.path(path, hint)?),
+            ast::Expr::TestPath(_) => return None,
             ast::Expr::Paren(p) => self.expr(&p.expr()?, hint)?,
             ast::Expr::Prefix(p) => Expr::Not(Box::new(self.expr(&p.operand()?, Some(Ty::Bool))?)),
             ast::Expr::Bin(b) => {
@@ -296,8 +286,8 @@ fn qualifier(text: &str) -> Option<Qualifier> {
 }
 
 impl Lowerer<'_> {
-    /// Lowers a chart item; its index in `program.charts` and its meta.
-    pub fn chart(&mut self, file: File, item: u32) -> Option<(u32, ChartMeta)> {
+    /// Lowers a chart item; its index in `program.charts`.
+    pub fn chart(&mut self, file: File, item: u32) -> Option<u32> {
         let loc = ItemLoc::new(self.db, file, item);
         let root = db::item_root(self.db, loc)?;
         let ast::Item::Chart(chart) = ast::Item::cast(root)? else {
@@ -312,12 +302,7 @@ impl Lowerer<'_> {
         };
         let vars = crate::rules::chart::decls::declare(&mut ctx, &info);
         ctx.out.diags.clear();
-        let mut meta = ChartMeta {
-            file,
-            item,
-            sequencers: Vec::new(),
-            vars: HashMap::new(),
-        };
+
         let mut decl_nodes: HashMap<String, ast::VarDecl> = HashMap::new();
         for (_, decl) in crate::rules::decls::declarations(chart.var_sections()) {
             if let Some(n) = decl.name() {
@@ -344,7 +329,6 @@ impl Lowerer<'_> {
             let cell = self.cell(ty, init);
             var_cells.push((cell, ty));
             if !var.duplicate {
-                meta.vars.insert(key, (cell, ty, var.name_range));
                 cell_names.push((var.name.clone(), cell));
             }
         }
@@ -400,12 +384,11 @@ impl Lowerer<'_> {
             if !seen.insert(crate::index::key(&seq_name)) {
                 continue;
             }
-            let (lowered, steps) = cl.sequencer(&sequencer, seq_name.clone(), &mut out.actions);
-            meta.sequencers.push((seq_name, steps));
+            let (lowered, _steps) = cl.sequencer(&sequencer, seq_name.clone(), &mut out.actions);
             out.sequencers.push(lowered);
         }
         cl.lw.program.charts.push(out);
-        Some(((cl.lw.program.charts.len() - 1) as u32, meta))
+        Some((cl.lw.program.charts.len() - 1) as u32)
     }
 }
 

@@ -6,8 +6,8 @@
 use std::collections::HashMap;
 
 use higraph_runtime::program::{
-    Block, Call, Graph, Instr, OpCode, Operand, Origin, Place, Predef, State, Target, TimeValue,
-    Trans, VarIdx, VarInfo,
+    Block, Call, Graph, Instr, OpCode, Operand, Origin, Predef, State, Target, TimeValue, Trans,
+    VarIdx, VarInfo,
 };
 use higraph_runtime::value::{Const, Ty, Value};
 use higraph_syntax::{TextRange, ast, ast::AstNode};
@@ -22,8 +22,6 @@ use crate::rules::{Ctx, graph::GraphModel};
 /// What the test paths need of a lowered graph: its variables by name.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct GraphMeta {
-    /// The graph item.
-    pub file_item: Option<(crate::db::File, u32)>,
     /// Upper-case name → variable index (declared and predefined).
     pub vars: HashMap<String, VarIdx>,
     /// Declared variables: (name range in the item, section), by `VarIdx - 18`.
@@ -349,10 +347,7 @@ impl GraphLowering<'_, '_> {
     /// The whole graph.
     pub fn graph(&mut self, graph: &ast::Graph) -> (Graph, GraphMeta) {
         let db = self.lw.db;
-        let mut meta = GraphMeta {
-            file_item: Some((self.item.file(db), self.item.index(db))),
-            ..GraphMeta::default()
-        };
+        let mut meta = GraphMeta::default();
         let mut vars: Vec<VarInfo> = Predef::ALL
             .iter()
             .map(|p| VarInfo {
@@ -599,9 +594,4 @@ impl GraphLowering<'_, '_> {
         }
         out
     }
-}
-
-/// A `Place` for a constant actual of a graph variable.
-pub(crate) fn const_place(value: Value) -> Place {
-    Place::Const(value)
 }

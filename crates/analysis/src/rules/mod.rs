@@ -10,6 +10,7 @@
 //! | `group`      | HG3103, HG3104, HG5xxx, HG8xxx |
 //! | `symbols`    | HG6xxx, HG4309, HG4310, HG1301 (workspace-wide) |
 //! | `chart`      | HG7xxx and the chart side of HG1xxx/HG3xxx/HG4101 |
+//! | `test`       | HG9001–HG9010: the structure of tests (paths and types are the lowering's) |
 //!
 //! Shared by the modules: `edit` (the text edits of quick fixes), `has_error` (C1) and
 //! `Ctx::with_closest_fix` ("did you mean" fixes); `stl::time` checks the time values of
@@ -35,6 +36,7 @@ pub(crate) mod group;
 mod names;
 pub(crate) mod stl;
 mod symbols;
+pub(crate) mod test;
 
 /// What the rules found in one item.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -156,7 +158,14 @@ pub(crate) fn check_item(
             decls::check_block_interface(&mut ctx, &interface);
             symbols::check_block_interface(&mut ctx, &interface);
         }
-        Some(ast::Item::Test(_)) => {}
+        Some(ast::Item::Test(test)) => {
+            test::check(&mut ctx, &test);
+            let (diags, symbols) = crate::lower::check_test(db, ws, ctx.file, ctx.item, &test);
+            ctx.out.diags.extend(diags);
+            for symbol in symbols {
+                ctx.use_symbol(&symbol);
+            }
+        }
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
     if is_later_duplicate(&ctx, item_node.as_ref()) {

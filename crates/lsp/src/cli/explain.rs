@@ -16,7 +16,7 @@ pub(crate) fn run(args: &ExplainArgs) -> Result<ExitCode, CliError> {
     let code = normalise(&args.code)?;
     let text = documentation(&code).ok_or_else(|| {
         CliError::new(format!(
-            "unknown diagnostic code '{code}'; the codes run from HG0001 to HG8011 \
+            "unknown diagnostic code '{code}'; the codes run from HG0001 to HG9904 \
              (`higraph-lsp check` shows the code of every diagnostic)"
         ))
     })?;
