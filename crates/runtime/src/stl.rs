@@ -54,10 +54,12 @@ pub fn run_block_with<O: Observer>(
             if f.origin == crate::program::Origin::NONE {
                 f.origin = ins.origin;
             }
+            m.instructions += i as u64 + 1;
             return Err(f);
         }
         obs.after(i, ins, m);
     }
+    m.instructions += block.code.len() as u64;
     Ok(m.status.rlo)
 }
 

@@ -478,8 +478,8 @@ fn gen_realarith(r: &mut Rng, code: &mut Vec<String>) {
                 // arguments near the interesting points of the functions
                 code.pop();
                 let x = *r.pick(&[
-                    0.5f32, -0.5, 0.9, -0.9, 1.5, 0.01, 2.0, 0.785, 3.25, 20.0, -20.0, 88.0,
-                    89.0, -104.0,
+                    0.5f32, -0.5, 0.9, -0.9, 1.5, 0.01, 2.0, 0.785, 3.25, 20.0, -20.0, 88.0, 89.0,
+                    -104.0,
                 ]);
                 code.push(format!("L {}", real_text(x)));
             }
