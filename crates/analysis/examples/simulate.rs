@@ -606,6 +606,7 @@ fn straight_line<'p>(
     p: &Program,
     blocks: Vec<(&'p [Place], &'p Block)>,
     min_seconds: f64,
+    min_passes: u64,
 ) -> (Vec<(&'p [Place], &'p Block)>, u64, f64, f64) {
     let mut m = Machine::new(p);
     let mut kept = Vec::with_capacity(blocks.len());
@@ -625,7 +626,7 @@ fn straight_line<'p>(
             let _ = stl::run_block(&mut m, b, blk, false);
         }
         passes += 1;
-        if start.elapsed().as_secs_f64() >= min_seconds && passes >= 3 {
+        if start.elapsed().as_secs_f64() >= min_seconds && passes >= min_passes {
             break;
         }
     }
@@ -723,7 +724,11 @@ fn main() {
     }
     // ---------------------------------------------------------------- straight-line STL
     let blocks = all_blocks(p, group);
-    let (kept, ours_n, ours_s, ours_cpu) = straight_line(p, blocks, 2.0);
+    let (kept, ours_n, ours_s, ours_cpu) = if a.only.is_some() {
+        straight_line(p, blocks, 0.0, 20)
+    } else {
+        straight_line(p, blocks, 2.0, 3)
+    };
     let (src, awl_per_cycle) = Awl::new(p).program(&kept);
     let code_n: usize = kept.iter().map(|(_, b)| b.code.len()).sum();
     println!(

@@ -412,6 +412,10 @@ impl Machine {
                         }
                     }
                 }
+                // Wholly past the allocated end and in range for any width: never written.
+                if b >= a.len() && b <= MAX_BYTE as usize - 3 {
+                    return Ok(0);
+                }
             }
             _ => {}
         }

@@ -78,18 +78,24 @@ impl Default for Nest {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn place<'a>(binding: &'a [Place], op: &'a Operand) -> Result<&'a Place, Fault> {
     match op {
+        Operand::Var(i) => match binding.get(*i as usize) {
+            Some(p) => Ok(p),
+            None => Err(unbound(*i)),
+        },
         Operand::Place(p) => Ok(p),
-        Operand::Var(i) => binding
-            .get(*i as usize)
-            .ok_or_else(|| Fault::new(format!("variable {i} is not bound"))),
         _ => Err(Fault::new("the instruction needs an address operand")),
     }
 }
 
-#[inline]
+#[cold]
+fn unbound(i: u16) -> Fault {
+    Fault::new(format!("variable {i} is not bound"))
+}
+
+#[inline(always)]
 fn bit(m: &mut Machine, binding: &[Place], op: &Operand) -> Result<bool, Fault> {
     let p = place(binding, op)?;
     Ok(m.read(p)? & 1 != 0)
