@@ -747,6 +747,17 @@ fn main() {
     if a.only.is_some() {
         return;
     }
+    // One line for scripts/bench-simulate: rates in millions per second.
+    let mut summary = format!(
+        "summary turns_wall={:.3} turns_cpu={:.3} stl_wall={:.3} stl_cpu={:.3} line_wall={:.3} \
+         line_cpu={:.3}",
+        turns / r.seconds / 1e6,
+        turns / r.cpu / 1e6,
+        r.instructions as f64 / r.seconds / 1e6,
+        r.instructions as f64 / r.cpu / 1e6,
+        ours_n as f64 / ours_s / 1e6,
+        ours_n as f64 / ours_cpu / 1e6
+    );
     if let Some(python) = &a.awlsim {
         let path =
             std::env::temp_dir().join(format!("higraph-simulate-{}.awl", std::process::id()));
@@ -789,6 +800,15 @@ fn main() {
             r.instructions as f64 / r.cpu / (n / cpu),
             ours_n as f64 / ours_cpu / (n / cpu)
         );
+        write!(
+            summary,
+            " awlsim_wall={:.4} awlsim_cpu={:.4} ratio_group={:.1} ratio_line={:.1}",
+            n / secs / 1e6,
+            n / cpu / 1e6,
+            r.instructions as f64 / r.cpu / (n / cpu),
+            ours_n as f64 / ours_cpu / (n / cpu)
+        )
+        .expect("string");
     }
 
     // ---------------------------------------------------------------- drilling, end to end
@@ -810,6 +830,11 @@ fn main() {
     println!(
         "drilling: lowering + 1000 cycles {:.2} ms on an analysed workspace (editor), {:.2} ms \
          from the files (parse, analyse, lower, run); medians of 11",
+        median(warm.clone()) * 1e3,
+        median(cold.clone()) * 1e3
+    );
+    println!(
+        "{summary} drilling_warm_ms={:.3} drilling_cold_ms={:.3}",
         median(warm) * 1e3,
         median(cold) * 1e3
     );
