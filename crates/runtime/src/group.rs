@@ -207,20 +207,24 @@ struct Turn<'a, 'g> {
 }
 
 impl<'g> Turn<'_, 'g> {
+    #[inline(always)]
     fn p(&self, p: Predef) -> &'g Place {
         // `run` checked the binding's length first.
         &self.b[p.var() as usize]
     }
 
+    #[inline(always)]
     fn get(&mut self, p: Predef) -> Result<u32, Fault> {
         let place = self.p(p);
         self.m.read(place)
     }
 
+    #[inline(always)]
     fn bit(&mut self, p: Predef) -> Result<bool, Fault> {
         Ok(self.get(p)? & 1 != 0)
     }
 
+    #[inline(always)]
     fn set(&mut self, p: Predef, bits: u32) -> Result<(), Fault> {
         let place = self.p(p);
         self.m.write(place, bits)
@@ -232,6 +236,7 @@ impl<'g> Turn<'_, 'g> {
     }
 
     /// Runs the blocks of one part; when recording and the part has a statement, notes it.
+    #[inline(always)]
     fn part(
         &mut self,
         blocks: &'g [Block],
@@ -369,6 +374,7 @@ impl<'g> Turn<'_, 'g> {
     }
 
     /// §2.6 update of one time: count down by Δ while valid and not stopped; at 0 expired.
+    #[inline(always)]
     fn update_time(
         &mut self,
         valid: Predef,
@@ -390,6 +396,7 @@ impl<'g> Turn<'_, 'g> {
 
     /// §2.4: `Some(resolved target)` when `t` is eligible. Checks stop at the first failure,
     /// so later condition blocks do not run.
+    #[inline(always)]
     fn eligible(&mut self, t: &'g Trans) -> Result<Option<u16>, Fault> {
         if t.auto && !self.bit(Predef::AutomaticMode)? {
             return Ok(None);

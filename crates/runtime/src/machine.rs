@@ -138,6 +138,9 @@ pub struct Machine {
     pub ar1: u32,
     pub ar2: u32,
     pub status: Status,
+    /// STL instructions executed so far (a faulting instruction counts); for benchmarks and
+    /// statistics, counted per block so that it costs nothing per instruction.
+    pub instructions: u64,
     inputs: Vec<u8>,
     outputs: Vec<u8>,
     memory: Vec<u8>,
@@ -189,6 +192,7 @@ impl Machine {
             ar1: 0,
             ar2: 0,
             status: Status::default(),
+            instructions: 0,
             inputs: Vec::new(),
             outputs: Vec::new(),
             memory: Vec::new(),
@@ -242,6 +246,21 @@ impl Machine {
             MemArea::Memory => &self.memory,
             MemArea::Local => &self.local,
             MemArea::Db(n) => self.dbs.get(n as usize).map_or(&[], |v| v.as_slice()),
+        }
+    }
+
+    /// The area as allocated so far (no growth).
+    #[inline]
+    fn area_slice_mut(&mut self, area: MemArea) -> &mut [u8] {
+        match area {
+            MemArea::Input => &mut self.inputs,
+            MemArea::Output => &mut self.outputs,
+            MemArea::Memory => &mut self.memory,
+            MemArea::Local => &mut self.local,
+            MemArea::Db(n) => self
+                .dbs
+                .get_mut(n as usize)
+                .map_or(&mut [][..], |v| v.as_mut_slice()),
         }
     }
 
@@ -369,8 +388,56 @@ impl Machine {
     // ------------------------------------------------------------------ places
 
     /// The bit pattern at a place, zero-extended (a timer: its status Q; a counter: value ≠ 0).
-    #[inline]
+    ///
+    /// The common cases (a cell; memory already allocated) are inlined; the rest, including
+    /// every fault, is [`Machine::read_slow`].
+    #[inline(always)]
     pub fn read(&mut self, place: &Place) -> Result<u32, Fault> {
+        match place {
+            Place::Cell(id) => {
+                if let Some(&c) = self.cells.get(*id as usize) {
+                    return Ok(c);
+                }
+            }
+            Place::Mem { area, byte, width } => {
+                // In range of the allocated area means at most byte 65535 (areas never grow
+                // past it), so no fault is possible here.
+                let a = self.area(*area);
+                let b = *byte as usize;
+                match *width {
+                    Width::Bit(x) => {
+                        if let Some(&v) = a.get(b) {
+                            return Ok((u32::from(v) >> (x & 7)) & 1);
+                        }
+                    }
+                    Width::Byte => {
+                        if let Some(&v) = a.get(b) {
+                            return Ok(u32::from(v));
+                        }
+                    }
+                    Width::Word => {
+                        if let Some(&[h, l]) = a.get(b..b + 2) {
+                            return Ok(u32::from(u16::from_be_bytes([h, l])));
+                        }
+                    }
+                    Width::Dword => {
+                        if let Some(&[b0, b1, b2, b3]) = a.get(b..b + 4) {
+                            return Ok(u32::from_be_bytes([b0, b1, b2, b3]));
+                        }
+                    }
+                }
+                // Wholly past the allocated end and in range for any width: never written.
+                if b >= a.len() && b <= MAX_BYTE as usize - 3 {
+                    return Ok(0);
+                }
+            }
+            _ => {}
+        }
+        self.read_slow(place)
+    }
+
+    #[inline(never)]
+    fn read_slow(&mut self, place: &Place) -> Result<u32, Fault> {
         match place {
             Place::Mem { area, byte, width } => match *width {
                 Width::Bit(x) => Ok((self.read_bytes(*area, *byte, 1)? >> (x & 7)) & 1),
@@ -388,8 +455,61 @@ impl Machine {
     }
 
     /// Writes the low bits of `bits` by the place's width (a constant place discards it).
-    #[inline]
+    ///
+    /// Inlined for a cell and for memory already allocated; the rest is
+    /// [`Machine::write_slow`].
+    #[inline(always)]
     pub fn write(&mut self, place: &Place, bits: u32) -> Result<(), Fault> {
+        match place {
+            Place::Cell(id) => {
+                let i = *id as usize;
+                if let (Some(c), Some(&m)) = (self.cells.get_mut(i), self.cell_mask.get(i)) {
+                    *c = bits & m;
+                    return Ok(());
+                }
+            }
+            Place::Mem { area, byte, width } => {
+                let a = self.area_slice_mut(*area);
+                let b = *byte as usize;
+                match *width {
+                    Width::Bit(x) => {
+                        if let Some(v) = a.get_mut(b) {
+                            let m = 1u8 << (x & 7);
+                            if bits & 1 != 0 {
+                                *v |= m;
+                            } else {
+                                *v &= !m;
+                            }
+                            return Ok(());
+                        }
+                    }
+                    Width::Byte => {
+                        if let Some(v) = a.get_mut(b) {
+                            *v = bits as u8;
+                            return Ok(());
+                        }
+                    }
+                    Width::Word => {
+                        if let Some(v) = a.get_mut(b..b + 2) {
+                            v.copy_from_slice(&(bits as u16).to_be_bytes());
+                            return Ok(());
+                        }
+                    }
+                    Width::Dword => {
+                        if let Some(v) = a.get_mut(b..b + 4) {
+                            v.copy_from_slice(&bits.to_be_bytes());
+                            return Ok(());
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+        self.write_slow(place, bits)
+    }
+
+    #[inline(never)]
+    fn write_slow(&mut self, place: &Place, bits: u32) -> Result<(), Fault> {
         match place {
             Place::Mem { area, byte, width } => match *width {
                 Width::Bit(x) => {

@@ -67,6 +67,7 @@ pub fn run_block_with<O: Observer>(
             if f.origin == crate::program::Origin::NONE {
                 f.origin = ins.origin;
             }
+            m.instructions += i as u64 + 1;
             return Err(f);
         }
         if shadowed && replaces_rlo(ins.op) {
@@ -74,6 +75,7 @@ pub fn run_block_with<O: Observer>(
         }
         obs.after(i, ins, m);
     }
+    m.instructions += block.code.len() as u64;
     Ok(m.status.rlo)
 }
 
@@ -145,18 +147,24 @@ impl Default for Nest {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn place<'a>(binding: &'a [Place], op: &'a Operand) -> Result<&'a Place, Fault> {
     match op {
+        Operand::Var(i) => match binding.get(*i as usize) {
+            Some(p) => Ok(p),
+            None => Err(unbound(*i)),
+        },
         Operand::Place(p) => Ok(p),
-        Operand::Var(i) => binding
-            .get(*i as usize)
-            .ok_or_else(|| Fault::new(format!("variable {i} is not bound"))),
         _ => Err(Fault::new("the instruction needs an address operand")),
     }
 }
 
-#[inline]
+#[cold]
+fn unbound(i: u16) -> Fault {
+    Fault::new(format!("variable {i} is not bound"))
+}
+
+#[inline(always)]
 fn bit(m: &mut Machine, binding: &[Place], op: &Operand) -> Result<bool, Fault> {
     let p = place(binding, op)?;
     Ok(m.read(p)? & 1 != 0)
