@@ -600,14 +600,17 @@ fn mnemonic(op: OpCode) -> &'static str {
     }
 }
 
+/// An instruction block with the binding of the instance that runs it.
+type BoundBlock<'p> = (&'p [Place], &'p Block);
+
 /// Our interpreter on the straight-line code: every block once per pass, for at least
 /// `min_seconds`. Blocks that fault on the first pass are left out (of Awlsim's code too).
 fn straight_line<'p>(
     p: &Program,
-    blocks: Vec<(&'p [Place], &'p Block)>,
+    blocks: Vec<BoundBlock<'p>>,
     min_seconds: f64,
     min_passes: u64,
-) -> (Vec<(&'p [Place], &'p Block)>, u64, f64, f64) {
+) -> (Vec<BoundBlock<'p>>, u64, f64, f64) {
     let mut m = Machine::new(p);
     let mut kept = Vec::with_capacity(blocks.len());
     for (b, blk) in blocks {
