@@ -220,7 +220,11 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
                     self.loc(*range),
                     format!("'{used}' is declared as '{declared}'"),
                 )
-                .fix(format!("Replace with '{declared}'"), self.loc(*range), declared);
+                .fix(
+                    format!("Replace with '{declared}'"),
+                    self.loc(*range),
+                    declared,
+                );
                 self.diags.push(diag);
             }
         }
