@@ -12,3 +12,5 @@ mod features;
 mod lifecycle;
 #[path = "lsp/robustness.rs"]
 mod robustness;
+#[path = "lsp/testing.rs"]
+mod testing;

@@ -1,7 +1,8 @@
 //! The registry test (`diagnostics.md` §4.5.1, as this project stands on its own): the
 //! implementation's registry (`registry.rs`), the rule documentation (`docs/rules/`) and the
-//! fixtures (`test_data/rules/` here, `crates/syntax/test_data/diagnostics/` for syntax codes)
-//! cover exactly the same codes, and the documentation states the registry's default
+//! fixtures (`test_data/rules/` here, `crates/syntax/test_data/diagnostics/` for syntax codes,
+//! `crates/lsp/tests/fixtures/results/` for the test results HG99xx, which only a test run
+//! reports) cover exactly the same codes, and the documentation states the registry's default
 //! severities.
 
 use std::{collections::BTreeSet, fs, path::Path};
@@ -24,13 +25,9 @@ fn dir_names(dir: &Path) -> BTreeSet<String> {
         .collect()
 }
 
-/// Codes registered and documented whose fixtures other parts of the work add: the test
-/// paths, values and types (HG91xx) come with the lowering, the results (HG99xx, run through
-/// `higraph-lsp test`) with the runner. Remove a code here when its fixtures land.
-const FIXTURES_PENDING: &[&str] = &[
-    "HG9101", "HG9102", "HG9103", "HG9104", "HG9105", "HG9106", "HG9107", "HG9108", "HG9109",
-    "HG9110", "HG9111", "HG9901", "HG9902", "HG9903", "HG9904",
-];
+/// Codes registered and documented whose fixtures other parts of the work add. Remove a code
+/// here when its fixtures land.
+const FIXTURES_PENDING: &[&str] = &[];
 
 /// Codes that have both a failing and a passing fixture.
 fn fixture_codes() -> BTreeSet<String> {
@@ -38,6 +35,7 @@ fn fixture_codes() -> BTreeSet<String> {
     for dir in [
         root().join("crates/analysis/test_data/rules"),
         root().join("crates/syntax/test_data/diagnostics"),
+        root().join("crates/lsp/tests/fixtures/results"),
     ] {
         for code in dir_names(&dir) {
             let files = dir_names(&dir.join(&code));

@@ -313,6 +313,7 @@ fn chart_and_group_pictures_hold_their_elements() {
             higraph_analysis::render::Shape::Rect {
                 bbox,
                 filled: false,
+                ..
             } => Some(*bbox),
             _ => None,
         })
@@ -526,6 +527,8 @@ fn svg_of_the_examples() {
             render(&drilling, name, RenderFormat::Svg)
         );
     }
+    let mixer = example("mixer").analysis();
+    insta::assert_snapshot!("svg_mischer", render(&mixer, "Mischer", RenderFormat::Svg));
 }
 
 /// No transition label lies on an arrow: no point of a curve is inside its box. (State
@@ -587,4 +590,42 @@ fn labels_do_not_lie_on_arrows() {
             &picture(&host.analysis(), "Kreis"),
         );
     }
+}
+
+/// The SVG names what a trace viewer animates: states, transitions (`A->B:PRIO`), instances,
+/// and the steps and transitions of each sequencer.
+#[test]
+fn svg_carries_data_attributes_for_the_trace_viewer() {
+    let drilling = example("drilling").analysis();
+    let bohren = render(&drilling, "Bohren", RenderFormat::Svg);
+    for attribute in [
+        "<circle cx=",
+        "data-state=\"0\"",
+        "data-state=\"8\"",
+        "data-trans=\"any-&gt;0:1\"",
+        "data-trans=\"5-&gt;6:1\"",
+        "data-trans=\"8-&gt;1:1\"",
+    ] {
+        assert!(bohren.contains(attribute), "{attribute} in\n{bohren}");
+    }
+    assert_eq!(bohren.matches("data-state=").count(), 9);
+    let group = render(&drilling, "Bohrmaschine", RenderFormat::Svg);
+    assert_eq!(group.matches("data-instance=").count(), 4, "{group}");
+    let mixer = example("mixer").analysis();
+    let chart = render(&mixer, "Mischer", RenderFormat::Svg);
+    for attribute in [
+        "data-sequencer=\"Ablauf\" data-step=\"Bereit\"",
+        "data-sequencer=\"Ablauf\" data-trans=\"Tank_Ist_Leer\"",
+        "data-sequencer=\"Ablauf\" data-trans=\"Verwerfen\"",
+    ] {
+        assert!(chart.contains(attribute), "{attribute} in\n{chart}");
+    }
+    // An unnumbered priority leaves `:PRIO` out; return transitions end in `return`.
+    let host = single_file(
+        "graph R <\n  state 0 < >\n  state 1 < >\n  trans any->0 prio 1 < U INIT_SD; >\n  trans 0->1 prio 2 < >\n  trans 1->return prio 1 < >\n>\n"
+            .to_owned(),
+    );
+    let svg = render(&host.analysis(), "R", RenderFormat::Svg);
+    assert!(svg.contains("data-trans=\"1-&gt;return:1\""), "{svg}");
+    assert!(svg.contains("data-trans=\"0-&gt;1:2\""), "{svg}");
 }

@@ -5,6 +5,7 @@
 
 mod cli;
 mod server;
+mod testing;
 mod workspace;
 
 use std::process::ExitCode;

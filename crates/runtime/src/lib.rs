@@ -17,6 +17,7 @@ pub mod stl;
 pub mod test;
 pub mod trace;
 pub mod value;
+pub mod vcd;
 
 pub use machine::{Fault, Machine};
 pub use program::Program;

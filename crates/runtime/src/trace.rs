@@ -14,16 +14,70 @@ pub struct Trace {
     pub run: Vec<String>,
     /// "passed", "failed" or "error".
     pub result: String,
-    /// As in `--format json` (objects built by the runner).
-    pub failures: Vec<Json>,
+    /// As in `--format json` (filled in by the caller, who knows files and positions).
+    pub failures: Vec<FailureRecord>,
     pub initial: Initial,
     pub cycles: Vec<CycleRecord>,
+    /// The internal messages before the first cycle (for the VCD; not in the JSON).
+    #[serde(skip)]
+    pub initial_messages: Vec<bool>,
+    /// The watched values before the first cycle (for the VCD; not in the JSON).
+    #[serde(skip)]
+    pub initial_watch_values: Vec<Option<crate::Value>>,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Default)]
 pub struct Initial {
     /// Path text → VALUE (see [`json_value`]), in watch order.
-    pub watch: serde_json::Map<String, Json>,
+    pub watch: OrderedMap,
+}
+
+/// A JSON object whose members keep their order (serde_json's own map sorts its keys).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct OrderedMap(pub Vec<(String, Json)>);
+
+impl OrderedMap {
+    pub fn insert(&mut self, key: String, value: Json) {
+        self.0.push((key, value));
+    }
+}
+
+impl Serialize for OrderedMap {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (key, value) in &self.0 {
+            map.serialize_entry(key, value)?;
+        }
+        map.end()
+    }
+}
+
+/// A position of `diagnostics.md` §4.1: 0-based line, UTF-16 column.
+#[derive(Debug, Clone, Copy, Serialize, Default, PartialEq, Eq)]
+pub struct JsonPosition {
+    pub line: u32,
+    pub character: u32,
+}
+
+/// A range of `diagnostics.md` §4.1.
+#[derive(Debug, Clone, Copy, Serialize, Default, PartialEq, Eq)]
+pub struct JsonRange {
+    pub start: JsonPosition,
+    pub end: JsonPosition,
+}
+
+/// One failure as `--format json` and the trace write it (§7).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FailureRecord {
+    pub code: String,
+    pub message: String,
+    pub file: String,
+    pub range: JsonRange,
+    pub cycle: u64,
+    pub time_ms: u64,
+    /// Path → VALUE, in the expression's order.
+    pub values: OrderedMap,
 }
 
 /// One machine cycle.
@@ -36,7 +90,14 @@ pub struct CycleRecord {
     pub before: Vec<Before>,
     pub instances: Vec<InstanceRecord>,
     pub charts: Vec<ChartRecord>,
-    pub watch: serde_json::Map<String, Json>,
+    pub watch: OrderedMap,
+    /// The watched values after the cycle, in watch order (`None`: unreadable); for the VCD.
+    #[serde(skip)]
+    pub watch_values: Vec<Option<crate::Value>>,
+    /// Every internal message of the groups run, in run-list and group order, after the
+    /// cycle; for the VCD.
+    #[serde(skip)]
+    pub messages: Vec<bool>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -129,7 +190,10 @@ pub fn json_value(v: &crate::Value) -> Json {
             } else if x.is_infinite() {
                 Json::from(if *x > 0.0 { "inf" } else { "-inf" })
             } else {
-                serde_json::Number::from_f64(f64::from(*x)).map_or(Json::Null, Json::Number)
+                // The shortest text that reads back as the same binary32 (`0.1`, not
+                // `0.10000000149011612`): parsed as a double, it prints the same digits.
+                let shortest = crate::test::real_text(*x).parse::<f64>().unwrap_or(0.0);
+                serde_json::Number::from_f64(shortest).map_or(Json::Null, Json::Number)
             }
         }
         V::DateAndTime(bytes) => {

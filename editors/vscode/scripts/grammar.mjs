@@ -203,6 +203,11 @@ const repository = {
         captures: { 1: { name: S.item }, 2: { name: 'storage.modifier.chart-type.higraph' }, 3: { name: S.chartName } },
       },
       { match: r`(?i)\b(symbols)\b(?=\s*<)`, name: S.item },
+      {
+        // test NAME ["description"] <
+        match: r`(?i)\b(test)\s+(${ID})(?=\s*(?:"[^"\r\n]*"\s*)?<)`,
+        captures: { 1: { name: S.item }, 2: { name: 'entity.name.function.test.higraph' } },
+      },
       { match: r`(?i)\b(block)\b(?=\s+[\p{L}_"])(?!\s*:)`, name: S.item },
     ],
   },
@@ -319,6 +324,15 @@ const repository = {
       // state items and step items
       { match: r`(?i)\b(wait|supervise|min|max)\b(?=\s+[^\s;:=])`, name: S.stmtKw },
       { match: r`(?i)\b(confirm)\b(?=\s*;)`, name: S.stmtKw },
+      // test statements (at the start of a line; `step;` / `step N;` of a test)
+      { match: r`(?i)^\s*\b(expect|until|set|cycle|command)\b(?=\s+[^\s;:=,)])`, captures: { 1: { name: S.stmtKw } } },
+      { match: r`(?i)\b(within)\b(?=\s+T#)`, name: S.stmtKw },
+      { match: r`(?i)^\s*\b(confirm)\b(?=\s+[^\s;])`, captures: { 1: { name: S.stmtKw } } },
+      { match: r`(?i)^\s*\b(step)\b(?=\s*(?:\d+\s*)?;)`, captures: { 1: { name: S.stmtKw } } },
+      {
+        match: r`(?i)^\s*\b(restart)\s+(cold|warm)\b`,
+        captures: { 1: { name: S.stmtKw }, 2: { name: S.langConst } },
+      },
       // step phases and sequencer pre/post blocks
       { match: r`(?i)\b(init|run|term|pre|post)\b(?=\s*<)`, name: S.section },
       // chart properties
@@ -334,6 +348,8 @@ const repository = {
         match: r`(?i)\b(run)\s+(${ID})(?=\s*;)`,
         captures: { 1: { name: S.other }, 2: { name: S.option } },
       },
+      // a test's run list of several groups and charts
+      { match: r`(?i)^\s*\b(run)\b(?=\s+${ID}\s*,)`, captures: { 1: { name: S.stmtKw } } },
     ],
   },
 

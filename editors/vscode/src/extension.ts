@@ -1,17 +1,23 @@
 // The HiGraph extension: starts the `higraph-lsp` language server for .higraph files and
-// adds the commands "HiGraph: Restart Server" and "HiGraph: Show Graph Preview". Colouring
+// adds the commands "HiGraph: Restart Server", "HiGraph: Show Graph Preview" and "HiGraph:
+// Play Test Trace", and the tests of the workspace to the Testing view (testing.ts). Colouring
 // (TextMate grammar), the language configuration and the snippets are declarative
 // (package.json) and work without the server.
 import * as vscode from 'vscode';
 import {
+  ExecuteCommandRequest,
   LanguageClient,
   State,
   type Executable,
   type LanguageClientOptions,
   type ServerOptions,
 } from 'vscode-languageclient/node';
+import { testAt } from './itemAtCursor';
 import { GraphPreview, RENDER_METHOD, type RenderParams, type RenderResult } from './preview';
+import type { Trace } from './previewPage';
 import { resolveServer, ServerNotFoundError } from './serverPath';
+import { TestExplorer } from './testing';
+import { RUN_TEST_COMMAND, SIMULATE_METHOD, TESTS_METHOD, type TestJson, type TestList } from './testResult';
 
 const CLIENT_ID = 'higraph'; // also the prefix of the setting `higraph.trace.server`
 const CLIENT_NAME = 'HiGraph Language Server';
@@ -20,6 +26,17 @@ let client: LanguageClient | undefined;
 let watchers: vscode.FileSystemWatcher[] = [];
 let output: vscode.LogOutputChannel;
 let preview: GraphPreview | undefined;
+let explorer: TestExplorer | undefined;
+
+/** The running client, or an error that says what to do. */
+function runningClient(): LanguageClient {
+  if (!client || client.state !== State.Running) {
+    throw new Error(
+      'The HiGraph language server is not running. See the "HiGraph" output channel, or run "HiGraph: Restart Server".',
+    );
+  }
+  return client;
+}
 /** Serialises start/stop/restart so that two restarts never overlap. */
 let lifecycle: Promise<void> = Promise.resolve();
 
@@ -29,22 +46,39 @@ export function activate(context: vscode.ExtensionContext): void {
 
   preview = new GraphPreview(
     {
-      render: async (params: RenderParams, token: vscode.CancellationToken): Promise<RenderResult> => {
-        if (!client || client.state !== State.Running) {
-          throw new Error(
-            'The HiGraph language server is not running. See the "HiGraph" output channel, or run "HiGraph: Restart Server".',
-          );
-        }
-        return client.sendRequest<RenderResult>(RENDER_METHOD, params, token);
-      },
+      render: async (params: RenderParams, token: vscode.CancellationToken): Promise<RenderResult> =>
+        runningClient().sendRequest<RenderResult>(RENDER_METHOD, params, token),
+      // (a token only when there is one: an `undefined` would be sent as a second parameter)
+      simulate: async (params: { name: string; uri?: string }, token?: vscode.CancellationToken): Promise<Trace> =>
+        token
+          ? runningClient().sendRequest<Trace>(SIMULATE_METHOD, params, token)
+          : runningClient().sendRequest<Trace>(SIMULATE_METHOD, params),
     },
     output,
   );
   context.subscriptions.push(preview);
 
+  explorer = new TestExplorer(
+    {
+      listTests: async (token?: vscode.CancellationToken): Promise<TestList> =>
+        token
+          ? runningClient().sendRequest<TestList>(TESTS_METHOD, {}, token)
+          : runningClient().sendRequest<TestList>(TESTS_METHOD, {}),
+      runTest: async (uri: string, name: string, token?: vscode.CancellationToken): Promise<TestJson> => {
+        const params = { command: RUN_TEST_COMMAND, arguments: [{ uri, name }] };
+        return token
+          ? runningClient().sendRequest(ExecuteCommandRequest.type, params, token)
+          : runningClient().sendRequest(ExecuteCommandRequest.type, params);
+      },
+    },
+    output,
+  );
+  context.subscriptions.push(explorer);
+
   context.subscriptions.push(
     vscode.commands.registerCommand('higraph.restartServer', () => queue(() => restart(context, true))),
     vscode.commands.registerCommand('higraph.showGraphPreview', () => preview?.show()),
+    vscode.commands.registerCommand('higraph.playTrace', (arg?: unknown) => playTrace(arg)),
     vscode.workspace.onDidChangeConfiguration((e) => {
       if (e.affectsConfiguration('higraph.server.path')) {
         output.appendLine('higraph.server.path changed: restarting the server.');
@@ -98,6 +132,13 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
     documentSelector: [{ language: 'higraph' }],
     synchronize: { fileEvents: watchers },
     outputChannel: output,
+    middleware: {
+      // A click on the `▶ Run test` lens runs through the Testing view (results, gutter).
+      executeCommand: (command, args, next) =>
+        command === RUN_TEST_COMMAND && explorer
+          ? explorer.runFromLens(args[0], async () => next(command, args))
+          : next(command, args),
+    },
   };
 
   const newClient = new LanguageClient(CLIENT_ID, CLIENT_NAME, serverOptions, clientOptions);
@@ -106,6 +147,7 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
     await newClient.start();
     output.appendLine('The HiGraph language server is running.');
     preview?.serverChanged();
+    explorer?.serverChanged();
   } catch (err) {
     const message = `The HiGraph language server (${command}) could not be started: ${
       err instanceof Error ? err.message : String(err)
@@ -137,6 +179,42 @@ async function restart(context: vscode.ExtensionContext, manual: boolean): Promi
   if (manual) output.appendLine('Restarting the HiGraph language server.');
   await stop();
   await start(context);
+}
+
+/**
+ * "HiGraph: Play Test Trace": the test comes from the Testing view's context menu (a test
+ * item), from the arguments `{ uri, name }`, from the test header above the cursor, or else
+ * from a pick of the workspace's tests.
+ */
+async function playTrace(arg?: unknown): Promise<void> {
+  let test: { name: string; uri?: string } | undefined;
+  const item = arg as vscode.TestItem | { uri?: string; name?: string } | undefined;
+  if (item && 'children' in item) {
+    const entry = explorer?.entryOf(item as vscode.TestItem);
+    if (entry) test = { name: entry.name, uri: entry.uri };
+  } else if (item && typeof (item as { name?: unknown }).name === 'string') {
+    const a = item as { uri?: string; name: string };
+    test = { name: a.name, uri: a.uri };
+  }
+  const editor = vscode.window.activeTextEditor;
+  if (!test && editor && editor.document.languageId === 'higraph') {
+    const name = testAt(editor.document.getText(), editor.document.offsetAt(editor.selection.active));
+    if (name) test = { name, uri: editor.document.uri.toString() };
+  }
+  if (!test) {
+    const entries = explorer?.allEntries() ?? [];
+    if (entries.length === 0) {
+      void vscode.window.showInformationMessage('HiGraph: the workspace has no tests to play.');
+      return;
+    }
+    const picked = await vscode.window.showQuickPick(
+      entries.map((e) => ({ label: e.name, description: vscode.workspace.asRelativePath(vscode.Uri.parse(e.uri)), entry: e })),
+      { placeHolder: 'The test whose trace to play' },
+    );
+    if (!picked) return;
+    test = { name: picked.entry.name, uri: picked.entry.uri };
+  }
+  await preview?.play(test);
 }
 
 function describeSource(source: string): string {

@@ -81,3 +81,16 @@ export function itemAt(text: string, offset: number): Item | undefined {
   }
   return found ?? items[0];
 }
+
+// After blanking, a test's description string is white space between its name and `<`.
+const TEST_HEADER = new RegExp(String.raw`(?<![\p{L}\p{N}_#.])test\s+(${IDENT})\s*<`, 'giu');
+
+/** The name of the `test` item whose header is the last one before `offset`, if any. */
+export function testAt(text: string, offset: number): string | undefined {
+  let found: string | undefined;
+  for (const m of blankCommentsAndStrings(text).matchAll(TEST_HEADER)) {
+    if ((m.index ?? 0) <= offset) found = m[1];
+    else break;
+  }
+  return found;
+}

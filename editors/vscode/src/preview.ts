@@ -4,9 +4,18 @@
 // .higraph document changes. The page is self-contained: no scripts, and a Content Security
 // Policy that allows only inline styles and images from data: URIs (the SVG is shown as an
 // <img> from a data: URI, so nothing in it can run).
+//
+// "HiGraph: Play Test Trace" turns the preview into a player: it fetches the trace of a test
+// run (`higraph/simulate`) and shows the picture inline with a slider over the cycles and
+// play/pause; each cycle highlights the active state of the chosen instance (a graph), the
+// instances that changed state (a group) or the active steps (a chart), and the transitions
+// that fired, found by the SVG's `data-` attributes. Only the page's own script runs (a
+// nonce in the Content Security Policy). An edit of a .higraph file ends the playback (the
+// trace no longer describes the files).
 import * as vscode from 'vscode';
 import { itemAt, type Item } from './itemAtCursor';
-import { describeError, page, RENDER_METHOD } from './previewPage';
+import { describeError, page, playerPage, RENDER_METHOD, type Trace } from './previewPage';
+import { SIMULATE_METHOD } from './testResult';
 
 export { RENDER_METHOD };
 
@@ -22,6 +31,15 @@ export interface RenderResult {
 export interface RenderBackend {
   /** Sends `higraph/render`; rejects with the server's error or when no server runs. */
   render(params: RenderParams, token: vscode.CancellationToken): Promise<RenderResult>;
+  /** Sends `higraph/simulate`: the JSON trace of a test run. */
+  simulate(params: { name: string; uri?: string }, token?: vscode.CancellationToken): Promise<Trace>;
+}
+
+function nonce(): string {
+  let out = '';
+  const chars = 'ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789';
+  for (let i = 0; i < 32; i++) out += chars.charAt(Math.floor(Math.random() * chars.length));
+  return out;
 }
 
 const REFRESH_DELAY_MS = 400;
@@ -34,6 +52,8 @@ export class GraphPreview implements vscode.Disposable {
   private timer: ReturnType<typeof setTimeout> | undefined;
   private pending: vscode.CancellationTokenSource | undefined;
   private generation = 0;
+  /** The trace being played, if any. */
+  private trace: Trace | undefined;
   private readonly disposables: vscode.Disposable[] = [];
 
   constructor(
@@ -45,6 +65,7 @@ export class GraphPreview implements vscode.Disposable {
       vscode.workspace.onDidChangeTextDocument((e) => {
         if (this.panel && e.document.languageId === 'higraph' && e.contentChanges.length > 0) {
           this.dirty = true;
+          this.trace = undefined;
           this.schedule();
         }
       }),
@@ -68,12 +89,58 @@ export class GraphPreview implements vscode.Disposable {
       return;
     }
     this.target = item;
+    this.trace = undefined;
+    this.open(item);
+    await this.refresh();
+  }
+
+  /**
+   * Plays the trace of a test: fetches it, then shows the item under the cursor (when the
+   * test runs it, or it is a graph) or else the first group or chart the test runs.
+   */
+  async play(test: { name: string; uri?: string }): Promise<void> {
+    let trace: Trace;
+    try {
+      trace = await vscode.window.withProgress(
+        { location: vscode.ProgressLocation.Window, title: `HiGraph: simulating test ${test.name}` },
+        () => this.backend.simulate(test),
+      );
+    } catch (err) {
+      void vscode.window.showErrorMessage(`HiGraph: cannot simulate test ${test.name}: ${describeError(err)}`);
+      return;
+    }
+    if (!trace || !Array.isArray(trace.cycles)) {
+      void vscode.window.showErrorMessage(`HiGraph: the server answered ${SIMULATE_METHOD} without a trace`);
+      return;
+    }
+    const editor = vscode.window.activeTextEditor;
+    const here = editor && editor.document.languageId === 'higraph' ? this.itemOf(editor) : undefined;
+    const runs = (name: string) => trace.run.some((r) => r.toUpperCase() === name.toUpperCase());
+    let item = here && (here.kind === 'graph' || runs(here.name)) ? here : undefined;
+    if (!item) {
+      const name = trace.run[0];
+      if (!name) {
+        void vscode.window.showInformationMessage(`HiGraph: test ${test.name} runs no group or chart`);
+        return;
+      }
+      const isChart = (trace.cycles[0]?.charts ?? []).some((c) => c.chart.toUpperCase() === name.toUpperCase());
+      item = { kind: isChart ? 'chart' : 'group', name, offset: 0 };
+    }
+    this.target = item;
+    this.trace = trace;
+    this.open(item);
+    await this.refresh();
+  }
+
+  /** Creates or reveals the panel. */
+  private open(item: Item): void {
     if (!this.panel) {
       this.panel = vscode.window.createWebviewPanel(
         'higraph.graphPreview',
         this.title(item),
         { viewColumn: vscode.ViewColumn.Beside, preserveFocus: true },
-        { enableScripts: false, enableCommandUris: false, localResourceRoots: [], retainContextWhenHidden: false },
+        // Scripts run only in the player page, whose CSP admits its own script by nonce.
+        { enableScripts: true, enableCommandUris: false, localResourceRoots: [], retainContextWhenHidden: false },
       );
       this.panel.onDidDispose(() => {
         this.panel = undefined;
@@ -83,7 +150,6 @@ export class GraphPreview implements vscode.Disposable {
     } else {
       this.panel.reveal(undefined, true);
     }
-    await this.refresh();
   }
 
   /** Called after the server (re)started: draw again. */
@@ -135,7 +201,7 @@ export class GraphPreview implements vscode.Disposable {
       if (!result || typeof result.svg !== 'string') {
         throw new Error(`the server answered ${RENDER_METHOD} without an "svg" string`);
       }
-      panel.webview.html = page(item, { svg: result.svg });
+      panel.webview.html = this.trace ? playerPage(item, result.svg, this.trace, nonce()) : page(item, { svg: result.svg });
     } catch (err) {
       if (generation !== this.generation || !this.panel || cts.token.isCancellationRequested) return;
       const message = describeError(err);

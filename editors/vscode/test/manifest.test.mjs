@@ -48,7 +48,13 @@ test('package.json: settings and commands', () => {
   assert.deepEqual(titles, {
     'higraph.restartServer': 'HiGraph: Restart Server',
     'higraph.showGraphPreview': 'HiGraph: Show Graph Preview',
+    'higraph.playTrace': 'HiGraph: Play Test Trace',
   });
+  // every command registered in the sources is declared, and the other way round
+  const source = readFileSync(join(extensionRoot, 'src', 'extension.ts'), 'utf8');
+  const registered = [...source.matchAll(/registerCommand\('([^']+)'/g)].map((m) => m[1]).sort();
+  assert.deepEqual(registered, Object.keys(titles).sort());
+  assert.deepEqual(pkg.contributes.menus['testing/item/context'].map((m) => m.command), ['higraph.playTrace']);
 });
 
 test('language configuration: comments, brackets, indentation', () => {

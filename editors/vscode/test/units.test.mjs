@@ -15,7 +15,7 @@ after(() => rmSync(work, { recursive: true, force: true }));
 
 writeFileSync(
   join(work, 'entry.ts'),
-  ['itemAtCursor', 'serverPath', 'previewPage']
+  ['itemAtCursor', 'serverPath', 'previewPage', 'testResult']
     .map((m) => `export * from ${JSON.stringify(join(extensionRoot, 'src', m))};`)
     .join('\n'),
 );
@@ -159,4 +159,58 @@ test('the preview page shows errors escaped; MethodNotFound is explained', () =>
   assert.ok(html.includes('does not support higraph/render'));
   assert.equal(m.describeError(new Error('boom')), 'boom');
   assert.equal(m.describeError({ code: -32803, message: 'no such graph' }), 'no such graph (error -32803)');
+});
+
+test('the player page runs only its own script (nonce) and shows the SVG inline', () => {
+  const svg = '<svg xmlns="http://www.w3.org/2000/svg"><script>alert(1)</script><circle data-state="0"/></svg>';
+  const trace = { test: 'T</script>', result: 'passed', cycle_ms: 10, run: ['G'], initial: { watch: {} }, cycles: [] };
+  const html = m.playerPage({ kind: 'graph', name: 'Ventil', offset: 0 }, svg, trace, 'abc123');
+  assert.match(html, /script-src 'nonce-abc123';/);
+  assert.ok(!html.includes('alert(1)'), 'the SVG\'s script is removed');
+  assert.ok(html.includes('<circle data-state="0"/>'));
+  // the trace cannot close its <script> element
+  const data = /<script id="trace" type="application\/json">([^]*?)<\/script>/.exec(html);
+  assert.ok(data);
+  assert.equal(JSON.parse(data[1]).test, 'T</script>');
+  assert.equal((html.match(/<script nonce="abc123">/g) ?? []).length, 1);
+  // the player's script is valid JavaScript (compiled, not run: it needs the webview's DOM)
+  const script = /<script nonce="abc123">([^]*?)<\/script>/.exec(html)[1];
+  assert.doesNotThrow(() => new Function(script));
+  assert.equal((html.match(/<script/g) ?? []).length, 2);
+});
+
+test('a fired transition is found by its data-trans key', () => {
+  assert.equal(m.firedKey({ kind: 'normal', from: 1, to: 2, prio: 3 }), '1->2:3');
+  assert.equal(m.firedKey({ kind: 'any', from: 5, to: 9, prio: 2 }), 'any->9:2');
+  assert.equal(m.firedKey({ kind: 'startup', from: 3, to: 0, prio: 1 }), 'any->0:1');
+  assert.equal(m.firedKey({ kind: 'return', from: 5, to: 1, prio: 1 }), '5->return:1');
+  assert.equal(m.firedKey({ kind: 'initial', from: null, to: 0, prio: null }), undefined);
+  assert.equal(m.firedKey(null), undefined);
+});
+
+// ---- tests ---------------------------------------------------------------------------------
+
+test('testAt finds the test header above the cursor, not in comments or strings', () => {
+  const text = '// test Nope <\ngraph G < >\ntest Erster "desc" <\n  expect x;\n>\ntest Zweiter <\n  expect "test Falsch <";\n>\n';
+  assert.equal(m.testAt(text, text.indexOf('graph')), undefined);
+  assert.equal(m.testAt(text, text.indexOf('expect x')), 'Erster');
+  assert.equal(m.testAt(text, text.indexOf('Falsch')), 'Zweiter');
+});
+
+test('failures are placed in their files, relative to the workspace root', () => {
+  assert.equal(m.fileUri('file:///ws/tests/t.higraph', 'tests/t.higraph', 'graphs/g.higraph'), 'file:///ws/graphs/g.higraph');
+  assert.equal(m.fileUri('file:///w%20s/a%20b.higraph', 'a b.higraph', 'c d.higraph'), 'file:///w%20s/c%20d.higraph');
+  assert.equal(m.fileUri('file:///elsewhere/x.higraph', 'tests/t.higraph', 'g.higraph'), 'file:///elsewhere/x.higraph');
+  const range = { start: { line: 3, character: 9 }, end: { line: 3, character: 20 } };
+  const failed = m.verdict('file:///ws/t.higraph', {
+    name: 'T', file: 't.higraph', range, result: 'failed', cycles: 3, time_ms: 30,
+    failures: [{ code: 'HG9901', message: 'expect failed: at cycle 3 (t = 30 ms): X = FALSE', file: 't.higraph', range, cycle: 3, time_ms: 30, values: { X: false } }],
+  });
+  assert.equal(failed.state, 'failed');
+  assert.deepEqual(failed.messages, [{ uri: 'file:///ws/t.higraph', range, message: 'HG9901: expect failed: at cycle 3 (t = 30 ms): X = FALSE' }]);
+  assert.match(failed.summary, /^test T \.\.\. FAILED \(3 cycles, 30 ms\)\n  HG9901/);
+  const passed = m.verdict('file:///ws/t.higraph', { name: 'T', file: 't.higraph', range, result: 'passed', cycles: 1, time_ms: 10, failures: [] });
+  assert.deepEqual([passed.state, passed.messages, passed.summary], ['passed', [], 'test T ... ok (1 cycle, 10 ms)']);
+  assert.equal(m.verdict('file:///ws/t.higraph', { name: 'T', file: 't.higraph', range, result: 'error', cycles: 0, time_ms: 0, failures: [] }).state, 'errored');
+  assert.equal(m.testId('file:///ws/t.higraph', 'Bohr'), 'file:///ws/t.higraph#BOHR');
 });

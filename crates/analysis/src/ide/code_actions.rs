@@ -97,8 +97,9 @@ impl Analysis {
         })
     }
 
-    /// `Err(Cancelled)` if `is_cancelled` says so or the host wants to write.
-    fn check_cancelled(&self, is_cancelled: &dyn Fn() -> bool) -> Cancellable<()> {
+    /// `Err(Cancelled)` if `is_cancelled` says so or the host wants to write. For long
+    /// computations outside salsa (the formatter, a test run) to ask between steps.
+    pub fn check_cancelled(&self, is_cancelled: &dyn Fn() -> bool) -> Cancellable<()> {
         if is_cancelled() {
             return Err(salsa::Cancelled::Local);
         }

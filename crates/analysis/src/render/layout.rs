@@ -7,7 +7,7 @@
 use rustc_hash::FxHashMap as HashMap;
 
 use super::model::{ChartModel, Element, End, GraphModel, GroupModel};
-use super::picture::{BBox, FONT_SIZE, Picture, Shape, Text, text_width};
+use super::picture::{BBox, Data, FONT_SIZE, Picture, Shape, Text, text_width};
 
 /// Radius of a state circle.
 const STATE_RADIUS: f64 = 28.0;
@@ -247,7 +247,14 @@ impl Router {
     }
 
     /// Routes an arrow from node `from` to node `to` and labels it.
-    fn edge(&mut self, from: usize, to: usize, label: Vec<String>, title: Option<String>) {
+    fn edge(
+        &mut self,
+        from: usize,
+        to: usize,
+        label: Vec<String>,
+        title: Option<String>,
+        data: Data,
+    ) {
         let (Some(&a), Some(&b)) = (self.nodes.get(from), self.nodes.get(to)) else {
             return;
         };
@@ -261,6 +268,7 @@ impl Router {
             arrow: true,
             dashed: false,
             title,
+            data,
         });
         for p in [curve.p1, curve.p2] {
             self.picture.extra.push(BBox::centered(p.0, p.1, 1.0, 1.0));
@@ -541,6 +549,7 @@ pub fn graph(model: &GraphModel) -> Picture {
             cy: y,
             r: STATE_RADIUS,
             double: s == start && model.initial.is_some(),
+            data: vec![("state", state.number.to_string())],
         });
         router.picture.shapes.push(Shape::Text(Text {
             x,
@@ -559,6 +568,7 @@ pub fn graph(model: &GraphModel) -> Picture {
     let mut return_bars: HashMap<usize, usize> = HashMap::default();
     for trans in &model.transitions {
         let label = vec![trans.label()];
+        let data = vec![("trans", trans.key())];
         let state = |end: End| match end {
             End::State(number) => index.get(&number).map(|&s| node_of[s]),
             _ => None,
@@ -566,10 +576,11 @@ pub fn graph(model: &GraphModel) -> Picture {
         let bar = |router: &mut Router, node: usize, dx: f64, dy: f64| -> usize {
             let (x, y) = (router.nodes[node].x + dx, router.nodes[node].y + dy);
             let bbox = BBox::centered(x, y, 26.0, 5.0);
-            router
-                .picture
-                .shapes
-                .push(Shape::Rect { bbox, filled: true });
+            router.picture.shapes.push(Shape::Rect {
+                bbox,
+                filled: true,
+                data: Data::new(),
+            });
             router.add_node(Node {
                 x,
                 y,
@@ -585,7 +596,7 @@ pub fn graph(model: &GraphModel) -> Picture {
                 let dx = -70.0 - 34.0 * (*k as f64);
                 *k += 1;
                 let from = bar(&mut router, target, dx, -62.0);
-                router.edge(from, target, label, trans.name.clone());
+                router.edge(from, target, label, trans.name.clone(), data);
             }
             (source, End::Return) => {
                 let Some(source) = state(source) else {
@@ -595,11 +606,11 @@ pub fn graph(model: &GraphModel) -> Picture {
                 let dy = 14.0 * (*k as f64);
                 *k += 1;
                 let to = bar(&mut router, source, 72.0, 10.0 + dy);
-                router.edge(source, to, label, trans.name.clone());
+                router.edge(source, to, label, trans.name.clone(), data);
             }
             (source, target) => {
                 if let (Some(from), Some(to)) = (state(source), state(target)) {
-                    router.edge(from, to, label, trans.name.clone());
+                    router.edge(from, to, label, trans.name.clone(), data);
                 }
             }
         }
@@ -627,7 +638,7 @@ pub fn group(model: &GroupModel) -> Picture {
         .fold(110.0, f64::max);
     let height = 46.0;
     let mut router = Router::default();
-    for (i, [name, graph]) in lines.iter().enumerate() {
+    for (i, ([name, graph], instance)) in lines.iter().zip(&model.instances).enumerate() {
         let x = (i % per_row) as f64 * (width + 190.0);
         let y = (i / per_row) as f64 * (height + 190.0);
         router.add_node(Node {
@@ -638,6 +649,7 @@ pub fn group(model: &GroupModel) -> Picture {
         router.picture.shapes.push(Shape::Rect {
             bbox: BBox::centered(x, y, width, height),
             filled: false,
+            data: vec![("instance", instance.name.clone())],
         });
         router.picture.shapes.push(Shape::Text(Text {
             x,
@@ -666,7 +678,7 @@ pub fn group(model: &GroupModel) -> Picture {
         }
     }
     for ((from, to), lines) in pairs {
-        router.edge(from, to, lines, None);
+        router.edge(from, to, lines, None, Data::new());
     }
     router.finish(
         format!("group {}", model.name),
@@ -773,19 +785,26 @@ struct ChartPainter {
     picture: Picture,
     /// Step name (upper case) → right edge and vertical middle.
     steps: HashMap<String, (f64, f64)>,
-    /// Jumps and loops: start point, target step name.
-    jumps: Vec<((f64, f64), String)>,
+    /// Jumps and loops: start point, target step name, own name.
+    jumps: Vec<((f64, f64), String, String)>,
+    /// The name of the sequencer being drawn (for the `data-` attributes).
+    sequencer: String,
     measures: Measures,
 }
 
 impl ChartPainter {
     fn line(&mut self, x1: f64, y1: f64, x2: f64, y2: f64, width: f64) {
+        self.tagged_line(x1, y1, x2, y2, width, Data::new());
+    }
+
+    fn tagged_line(&mut self, x1: f64, y1: f64, x2: f64, y2: f64, width: f64, data: Data) {
         self.picture.shapes.push(Shape::Line {
             x1,
             y1,
             x2,
             y2,
             width,
+            data,
         });
     }
 
@@ -817,6 +836,10 @@ impl ChartPainter {
                         h: extent.height,
                     },
                     filled: false,
+                    data: vec![
+                        ("sequencer", self.sequencer.clone()),
+                        ("step", name.clone()),
+                    ],
                 });
                 self.picture.shapes.push(Shape::Text(Text::new(
                     x,
@@ -830,7 +853,11 @@ impl ChartPainter {
             Element::Trans(name) => {
                 let mid = y + extent.height / 2.0;
                 self.line(x, y, x, bottom, 1.2);
-                self.line(x - 14.0, mid, x + 14.0, mid, 3.0);
+                let data = vec![
+                    ("sequencer", self.sequencer.clone()),
+                    ("trans", name.clone()),
+                ];
+                self.tagged_line(x - 14.0, mid, x + 14.0, mid, 3.0, data);
                 let w = text_width(name, FONT_SIZE) + 4.0;
                 self.picture.shapes.push(Shape::Text(Text::new(
                     x + 22.0 + w / 2.0,
@@ -851,7 +878,7 @@ impl ChartPainter {
                     .shapes
                     .push(Shape::Text(Text::new(x + 14.0 + w / 2.0, y + 9.0, text)));
                 self.jumps
-                    .push(((x, y + 22.0), target.to_ascii_uppercase()));
+                    .push(((x, y + 22.0), target.to_ascii_uppercase(), name.clone()));
             }
             Element::Parallel(branches) | Element::Alt(branches) => {
                 let double = matches!(element, Element::Parallel(_));
@@ -912,10 +939,11 @@ pub fn chart(model: &ChartModel) -> Picture {
         }));
         painter.jumps.clear();
         painter.steps.clear();
+        painter.sequencer = sequencer.name.clone();
         painter.sequence(&sequencer.elements, x, 24.0);
         let right = x + extent.right.max(heading_width / 2.0);
         let jumps = std::mem::take(&mut painter.jumps);
-        for (k, ((sx, sy), target)) in jumps.iter().enumerate() {
+        for (k, ((sx, sy), target, name)) in jumps.iter().enumerate() {
             let lane = right + 16.0 + 14.0 * k as f64;
             let d = match painter.steps.get(target) {
                 Some(&(tx, ty)) => {
@@ -929,6 +957,10 @@ pub fn chart(model: &ChartModel) -> Picture {
                 arrow: true,
                 dashed: false,
                 title: None,
+                data: vec![
+                    ("sequencer", sequencer.name.clone()),
+                    ("trans", name.clone()),
+                ],
             });
             painter
                 .picture

@@ -14,7 +14,7 @@ pub mod picture;
 use higraph_syntax::ast;
 
 use crate::{Analysis, Cancellable, db};
-pub use picture::{BBox, Picture, Shape, Text};
+pub use picture::{BBox, Data, Picture, Shape, Text};
 
 /// The output format of [`Analysis::render`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

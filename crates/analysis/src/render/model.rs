@@ -47,6 +47,22 @@ pub struct TransModel {
 }
 
 impl TransModel {
+    /// How a viewer names the transition (the SVG's `data-trans`): `A->B:PRIO` with `any` for
+    /// an any-transition's source and `return` for a return transition's target, without
+    /// `:PRIO` when the priority is unknown. A trace's fired transition names it alike.
+    pub fn key(&self) -> String {
+        let end = |end: End| match end {
+            End::State(number) => number.to_string(),
+            End::Any => "any".to_owned(),
+            End::Return => "return".to_owned(),
+        };
+        let mut key = format!("{}->{}", end(self.source), end(self.target));
+        if let Some(prio) = self.prio {
+            key.push_str(&format!(":{prio}"));
+        }
+        key
+    }
+
     /// The label drawn at the arrow: priority and attributes (`1 auto`).
     pub fn label(&self) -> String {
         let mut parts: Vec<String> = Vec::new();

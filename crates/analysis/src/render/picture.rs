@@ -111,6 +111,12 @@ impl Text {
     }
 }
 
+/// `data-*` attributes of a shape (name without `data-`, value), for a viewer that animates
+/// the picture: `state` (a state circle), `trans` (`A->B:PRIO`, a transition arrow),
+/// `instance` (an instance box), `sequencer` and `step` (a step box), `sequencer` and `trans`
+/// (a chart transition bar or jump arrow, by name).
+pub type Data = Vec<(&'static str, String)>;
+
 /// One shape of a picture.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
@@ -120,11 +126,13 @@ pub enum Shape {
         r: f64,
         /// Drawn with a double outline (the initial state).
         double: bool,
+        data: Data,
     },
     Rect {
         bbox: BBox,
         /// Filled black (bars) rather than white with an outline.
         filled: bool,
+        data: Data,
     },
     /// A straight line.
     Line {
@@ -133,6 +141,7 @@ pub enum Shape {
         x2: f64,
         y2: f64,
         width: f64,
+        data: Data,
     },
     /// An SVG path (`d` attribute), optionally ending in an arrowhead.
     Path {
@@ -141,6 +150,7 @@ pub enum Shape {
         dashed: bool,
         /// A tooltip (`<title>`), e.g. the transition's name.
         title: Option<String>,
+        data: Data,
     },
     Text(Text),
 }
@@ -242,7 +252,9 @@ impl Picture {
                     arrow,
                     dashed,
                     title,
+                    data,
                 } => {
+                    let data = attributes(data);
                     let marker = if *arrow {
                         " marker-end=\"url(#arrow)\""
                     } else {
@@ -257,14 +269,14 @@ impl Picture {
                         Some(t) => {
                             let _ = writeln!(
                                 out,
-                                "<path d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"1.2\"{marker}{dash}><title>{}</title></path>",
+                                "<path d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"1.2\"{marker}{dash}{data}><title>{}</title></path>",
                                 escape(t)
                             );
                         }
                         None => {
                             let _ = writeln!(
                                 out,
-                                "<path d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"1.2\"{marker}{dash}/>"
+                                "<path d=\"{d}\" fill=\"none\" stroke=\"black\" stroke-width=\"1.2\"{marker}{dash}{data}/>"
                             );
                         }
                     }
@@ -275,10 +287,12 @@ impl Picture {
                     x2,
                     y2,
                     width,
+                    data,
                 } => {
+                    let data = attributes(data);
                     let _ = writeln!(
                         out,
-                        "<line x1=\"{x1:.1}\" y1=\"{y1:.1}\" x2=\"{x2:.1}\" y2=\"{y2:.1}\" stroke=\"black\" stroke-width=\"{width}\"/>"
+                        "<line x1=\"{x1:.1}\" y1=\"{y1:.1}\" x2=\"{x2:.1}\" y2=\"{y2:.1}\" stroke=\"black\" stroke-width=\"{width}\"{data}/>"
                     );
                 }
                 _ => {}
@@ -286,10 +300,17 @@ impl Picture {
         }
         for shape in &self.shapes {
             match shape {
-                Shape::Circle { cx, cy, r, double } => {
+                Shape::Circle {
+                    cx,
+                    cy,
+                    r,
+                    double,
+                    data,
+                } => {
+                    let data = attributes(data);
                     let _ = writeln!(
                         out,
-                        "<circle cx=\"{cx:.1}\" cy=\"{cy:.1}\" r=\"{r:.1}\" fill=\"#f4f8ff\" stroke=\"black\" stroke-width=\"1.5\"/>"
+                        "<circle cx=\"{cx:.1}\" cy=\"{cy:.1}\" r=\"{r:.1}\" fill=\"#f4f8ff\" stroke=\"black\" stroke-width=\"1.5\"{data}/>"
                     );
                     if *double {
                         let _ = writeln!(
@@ -299,7 +320,8 @@ impl Picture {
                         );
                     }
                 }
-                Shape::Rect { bbox, filled } => {
+                Shape::Rect { bbox, filled, data } => {
+                    let data = attributes(data);
                     let style = if *filled {
                         "fill=\"black\""
                     } else {
@@ -307,7 +329,7 @@ impl Picture {
                     };
                     let _ = writeln!(
                         out,
-                        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" {style}/>",
+                        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" {style}{data}/>",
                         bbox.x, bbox.y, bbox.w, bbox.h
                     );
                 }
@@ -350,6 +372,15 @@ fn write_text(out: &mut String, text: &Text) {
             escape(line)
         );
     }
+}
+
+/// ` data-name="value"` for each attribute.
+fn attributes(data: &Data) -> String {
+    let mut out = String::new();
+    for (name, value) in data {
+        let _ = write!(out, " data-{name}=\"{}\"", escape(value));
+    }
+    out
 }
 
 /// XML-escapes text and attribute values.

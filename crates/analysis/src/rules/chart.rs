@@ -43,7 +43,7 @@
 
 pub(crate) mod decls;
 mod exprs;
-mod model;
+pub(crate) mod model;
 mod names;
 pub(crate) mod operands;
 mod parts;

@@ -158,7 +158,14 @@ pub(crate) fn check_item(
             decls::check_block_interface(&mut ctx, &interface);
             symbols::check_block_interface(&mut ctx, &interface);
         }
-        Some(ast::Item::Test(test)) => test::check(&mut ctx, &test),
+        Some(ast::Item::Test(test)) => {
+            test::check(&mut ctx, &test);
+            let (diags, symbols) = crate::lower::check_test(db, ws, ctx.file, ctx.item, &test);
+            ctx.out.diags.extend(diags);
+            for symbol in symbols {
+                ctx.use_symbol(&symbol);
+            }
+        }
         Some(ast::Item::Mnemonic(_)) | None => {}
     }
     if is_later_duplicate(&ctx, item_node.as_ref()) {

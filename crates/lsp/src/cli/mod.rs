@@ -11,6 +11,7 @@ mod output;
 mod parse;
 mod paths;
 mod render;
+mod test;
 
 use std::fmt;
 use std::io::{self, IsTerminal, Write};
@@ -58,6 +59,38 @@ enum Command {
     Explain(ExplainArgs),
     /// Draw a graph, group or chart as SVG or Graphviz DOT.
     Render(RenderArgs),
+    /// Run the `test` items of a workspace on the simulated machine.
+    Test(TestArgs),
+}
+
+/// Arguments of `higraph-lsp test`.
+#[derive(Debug, Args)]
+pub(crate) struct TestArgs {
+    /// Files or folders whose tests run (default: every test of the workspace); the workspace
+    /// is found as `check` finds it, from the first PATH or the current folder.
+    #[arg(value_name = "PATH")]
+    pub paths: Vec<PathBuf>,
+    /// Run only the tests whose name contains PATTERN (any letter case).
+    #[arg(long, value_name = "PATTERN")]
+    pub filter: Option<String>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = TestFormat::Human)]
+    pub format: TestFormat,
+    /// Write a JSON trace and a VCD waveform of every test that runs into this folder
+    /// (created if needed; only earlier traces are replaced).
+    #[arg(long, value_name = "DIR")]
+    pub trace: Option<PathBuf>,
+}
+
+/// The output formats of `test`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum TestFormat {
+    /// one line per test and the failures with their source lines, like `cargo test`.
+    Human,
+    /// one JSON object with every test, its result and failures.
+    Json,
+    /// JUnit XML for CI test reporters.
+    Junit,
 }
 
 /// Arguments of `higraph-lsp lsp`.
@@ -228,6 +261,7 @@ pub fn run() -> ExitCode {
         Some(Command::Fmt(args)) => fmt_command::run(&args),
         Some(Command::Explain(args)) => explain::run(&args),
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Test(args)) => test::run(&args),
         Some(Command::Lsp(_)) | None => {
             // Someone typed `higraph-lsp` in a terminal: say what this is. The server still
             // runs (an editor never starts it on a terminal).

@@ -101,6 +101,14 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
             },
         )),
         hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
+        // `▶ Run test` on each test header, running `higraph.runTest` (`runtime.md` §8).
+        code_lens_provider: Some(lsp::CodeLensOptions {
+            resolve_provider: Some(false),
+        }),
+        execute_command_provider: Some(lsp::ExecuteCommandOptions {
+            commands: vec![super::testing::RUN_TEST.to_owned()],
+            work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
+        }),
         completion_provider: Some(lsp::CompletionOptions {
             // `Inst.` (messages of the instance's graph) and `#` (variables).
             trigger_characters: Some(vec![".".into(), "#".into()]),

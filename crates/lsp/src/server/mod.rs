@@ -16,6 +16,7 @@ mod convert;
 mod diagnostics;
 mod handlers;
 mod state;
+mod testing;
 mod transport;
 mod vfs;
 
@@ -80,6 +81,8 @@ async fn serve_stdio() -> bool {
         workers: Arc::new(tokio::sync::Semaphore::new(request_workers())),
     })
     .custom_method("higraph/render", Backend::render)
+    .custom_method("higraph/simulate", Backend::simulate)
+    .custom_method("higraph/tests", Backend::tests)
     .finish();
     let client = service.inner().client.clone();
     tokio::spawn(talk_to_client(client.clone(), outbox));
@@ -106,6 +109,14 @@ async fn talk_to_client(client: Client, mut outbox: mpsc::UnboundedReceiver<ToCl
             ToClient::Log { kind, message } => client.log_message(kind, message).await,
             ToClient::Barrier(done) => {
                 let _ = done.send(());
+            }
+            ToClient::RefreshCodeLenses => {
+                // Not awaited: the client answers when it likes, and a failure only means
+                // the lenses show the old result until the next edit.
+                let client = client.clone();
+                tokio::spawn(async move {
+                    let _ = client.code_lens_refresh().await;
+                });
             }
         }
     }
@@ -146,6 +157,17 @@ impl Backend {
     ) -> jsonrpc::Result<handlers::RenderResult> {
         self.answer("higraph/render", params, handlers::render)
             .await
+    }
+
+    /// The custom request `higraph/simulate`: `{ "name", "uri"? }` → the JSON trace of a run.
+    async fn simulate(&self, params: testing::TestParams) -> jsonrpc::Result<serde_json::Value> {
+        self.answer("higraph/simulate", params, testing::simulate)
+            .await
+    }
+
+    /// The custom request `higraph/tests`: every test of the workspace.
+    async fn tests(&self, params: Option<serde_json::Value>) -> jsonrpc::Result<testing::TestList> {
+        self.answer("higraph/tests", params, testing::list).await
     }
 
     fn support(&self) -> ClientSupport {
@@ -270,9 +292,17 @@ impl LanguageServer for Backend {
     async fn initialize(&self, params: InitializeParams) -> jsonrpc::Result<InitializeResult> {
         let support = ClientSupport::new(&params.capabilities);
         let _ = self.support.set(support);
+        let code_lens_refresh = params
+            .capabilities
+            .workspace
+            .as_ref()
+            .and_then(|workspace| workspace.code_lens.as_ref())
+            .and_then(|code_lens| code_lens.refresh_support)
+            .unwrap_or(false);
         self.world.send(Task::Initialize {
             root: client_root(&params),
             support,
+            code_lens_refresh,
         });
         Ok(InitializeResult {
             capabilities: capabilities::server_capabilities(&support),
@@ -517,6 +547,55 @@ impl LanguageServer for Backend {
     ) -> jsonrpc::Result<Option<lsp::CodeActionResponse>> {
         self.answer("codeAction", params, handlers::code_action)
             .await
+    }
+
+    async fn code_lens(
+        &self,
+        params: lsp::CodeLensParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::CodeLens>>> {
+        self.answer("codeLens", params, testing::code_lens).await
+    }
+
+    /// `higraph.runTest`: runs a test and answers its `--format json` object; the world
+    /// keeps the result for the lens and publishes the failures.
+    async fn execute_command(
+        &self,
+        params: lsp::ExecuteCommandParams,
+    ) -> jsonrpc::Result<Option<lsp::LSPAny>> {
+        if params.command != testing::RUN_TEST {
+            return Err(rpc_error(
+                ErrorCode::InvalidParams,
+                format!(
+                    "unknown command '{}'; the server executes only {}",
+                    params.command,
+                    testing::RUN_TEST
+                ),
+            ));
+        }
+        let argument = params
+            .arguments
+            .into_iter()
+            .next()
+            .and_then(|argument| serde_json::from_value::<testing::TestParams>(argument).ok())
+            .filter(|argument| argument.uri.is_some());
+        let Some(argument) = argument else {
+            return Err(rpc_error(
+                ErrorCode::InvalidParams,
+                format!(
+                    "{} takes one argument {{\"uri\": URI, \"name\": NAME}}",
+                    testing::RUN_TEST
+                ),
+            ));
+        };
+        let outcome = self
+            .answer(testing::RUN_TEST, argument, testing::run_test)
+            .await?;
+        self.world.send(Task::TestRan {
+            generation: outcome.generation,
+            key: outcome.key,
+            record: outcome.record,
+        });
+        Ok(Some(outcome.json))
     }
 
     async fn formatting(

@@ -36,6 +36,7 @@ use tower_lsp_server::ls_types::{
 
 use super::capabilities::ClientSupport;
 use super::diagnostics::{DiagnosticsWorker, FileDiagnostics};
+use super::testing::{TestKey, TestRecord, TestRecords};
 use super::vfs::{Changed, Document, Documents, PathMap};
 use crate::workspace::{self, CONFIG_FILE, EXTENSION, FileFilter};
 
@@ -45,6 +46,8 @@ pub(crate) enum Task {
     Initialize {
         root: Option<PathBuf>,
         support: ClientSupport,
+        /// The client accepts `workspace/codeLens/refresh`.
+        code_lens_refresh: bool,
     },
     /// Read the workspace from disk and analyse it, reporting progress.
     Index {
@@ -73,6 +76,12 @@ pub(crate) enum Task {
     Reload,
     /// A snapshot for a request, reflecting every task before this one.
     Snapshot { reply: oneshot::Sender<Snapshot> },
+    /// A test ran (`higraph.runTest`) on the files of contents generation `generation`.
+    TestRan {
+        generation: u64,
+        key: TestKey,
+        record: TestRecord,
+    },
     /// The diagnostics of a revision, computed off the world's thread.
     DiagnosticsReady {
         revision: u64,
@@ -106,6 +115,8 @@ pub(crate) enum ToClient {
     Log { kind: MessageType, message: String },
     /// Everything before has been sent: resolve the sender.
     Barrier(oneshot::Sender<()>),
+    /// `workspace/codeLens/refresh` (the test lenses show a new result).
+    RefreshCodeLenses,
 }
 
 /// A cheap handle that sends tasks to the world.
@@ -163,6 +174,10 @@ pub(crate) struct Snapshot {
     shared_indexes: SharedLineIndexes,
     /// Set when the client no longer waits for the request's answer (`$/cancelRequest`).
     cancelled: Arc<AtomicBool>,
+    /// The contents generation of this snapshot's files (see `World::generation`).
+    generation: u64,
+    /// The tests run since the files last changed.
+    test_records: TestRecords,
 }
 
 /// The line indexes of files that are not open, by workspace path, with the contents they
@@ -194,6 +209,16 @@ impl Snapshot {
     /// The flag [`Snapshot::is_cancelled`] reads, for the request's owner to set.
     pub(crate) fn cancel_flag(&self) -> Arc<AtomicBool> {
         self.cancelled.clone()
+    }
+
+    /// The contents generation of the snapshot's files: it changes whenever a file does.
+    pub(crate) fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The last run of a test, if it ran since the files last changed.
+    pub(crate) fn test_record(&self, key: &TestKey) -> Option<&TestRecord> {
+        self.test_records.get(key)
     }
 
     /// The workspace path of a URI (`None` for URIs that name no file).
@@ -284,6 +309,16 @@ struct World {
     to_client: async_mpsc::UnboundedSender<ToClient>,
     /// The world's own inbox, for the diagnostics thread to answer.
     tasks: mpsc::Sender<Task>,
+    /// Counts the changes of the files' contents (a revision that only reopens a document
+    /// with its text does not count): test results hold until it moves.
+    generation: u64,
+    /// The generation the test records belong to.
+    tested: u64,
+    /// The last run of each test run since the files last changed; their failures are
+    /// published with the files' own diagnostics.
+    test_records: TestRecords,
+    /// The client refreshes code lenses on request.
+    code_lens_refresh: bool,
 }
 
 impl World {
@@ -305,6 +340,10 @@ impl World {
             index_progress: None,
             to_client,
             tasks,
+            generation: 0,
+            tested: 0,
+            test_records: TestRecords::default(),
+            code_lens_refresh: false,
         }
     }
 
@@ -329,12 +368,21 @@ impl World {
             let message = super::panic_message(payload.as_ref());
             self.log(MessageType::ERROR, format!("internal error: {message}"));
         }
+        // At once, so that a snapshot taken right after a change no longer sees the runs.
+        if self.tested != self.generation {
+            self.forget_test_runs();
+        }
     }
 
     fn handle(&mut self, task: Task) {
         match task {
-            Task::Initialize { root, support } => {
+            Task::Initialize {
+                root,
+                support,
+                code_lens_refresh,
+            } => {
                 self.support = support;
+                self.code_lens_refresh = code_lens_refresh;
                 self.paths = Arc::new(match root {
                     Some(root) => path_map(&root),
                     None => PathMap::default(),
@@ -375,6 +423,11 @@ impl World {
                 // A request that was cancelled meanwhile drops the snapshot with the channel.
                 let _ = reply.send(self.snapshot());
             }
+            Task::TestRan {
+                generation,
+                key,
+                record,
+            } => self.test_ran(generation, key, record),
             Task::DiagnosticsReady { revision, files } => {
                 // A newer revision is being analysed: these are stale.
                 if revision == self.revision {
@@ -402,7 +455,79 @@ impl World {
             line_indexes: RefCell::new(line_indexes),
             shared_indexes: self.shared_indexes.clone(),
             cancelled: Arc::new(AtomicBool::new(false)),
+            generation: self.generation,
+            test_records: self.test_records.clone(),
         }
+    }
+
+    /// Keeps a test's run (replacing its previous one) and publishes its failures, unless
+    /// the files changed while it ran.
+    fn test_ran(&mut self, generation: u64, key: TestKey, record: TestRecord) {
+        if generation != self.generation {
+            return;
+        }
+        self.tested = generation;
+        let mut files: HashSet<String> = record
+            .diagnostics
+            .iter()
+            .map(|(file, _)| file.clone())
+            .collect();
+        let records = Arc::make_mut(&mut self.test_records);
+        if let Some(old) = records.insert(key, record) {
+            files.extend(old.diagnostics.into_iter().map(|(file, _)| file));
+        }
+        // Files not published yet get their test failures with their first publication.
+        for name in files {
+            if let Some((uri, diagnostics)) = self.published.get(&name) {
+                let _ = self.to_client.send(ToClient::Publish {
+                    uri: uri.clone(),
+                    diagnostics: self.with_test_failures(&name, diagnostics),
+                    version: self.documents.get(&name).map(|d| d.version),
+                });
+            }
+        }
+        self.refresh_code_lenses();
+    }
+
+    /// The files changed: the test runs no longer describe them. Their failures go with the
+    /// next publication.
+    fn forget_test_runs(&mut self) {
+        self.tested = self.generation;
+        if self.test_records.is_empty() {
+            return;
+        }
+        for record in self.test_records.values() {
+            for (file, _) in &record.diagnostics {
+                self.republish.insert(file.clone());
+            }
+        }
+        self.test_records = TestRecords::default();
+        self.refresh_code_lenses();
+    }
+
+    fn refresh_code_lenses(&self) {
+        if self.code_lens_refresh {
+            let _ = self.to_client.send(ToClient::RefreshCodeLenses);
+        }
+    }
+
+    /// A file's diagnostics followed by the failures of the tests run in it.
+    fn with_test_failures(
+        &self,
+        name: &str,
+        diagnostics: &FileDiagnostics,
+    ) -> Vec<lsp::Diagnostic> {
+        let mut all = diagnostics.to_vec();
+        for record in self.test_records.values() {
+            all.extend(
+                record
+                    .diagnostics
+                    .iter()
+                    .filter(|(file, _)| file == name)
+                    .map(|(_, diagnostic)| diagnostic.clone()),
+            );
+        }
+        all
     }
 
     fn log(&self, kind: MessageType, message: String) {
@@ -448,6 +573,7 @@ impl World {
         }
         self.host.load(data);
         self.revision += 1;
+        self.generation += 1;
         // Every file has new contents: the old indexes would never be used again.
         if let Ok(mut shared) = self.shared_indexes.lock() {
             shared.clear();
@@ -464,7 +590,11 @@ impl World {
         };
         let analysed = name.ends_with(&format!(".{EXTENSION}")) || language_id == "higraph";
         if analysed {
-            self.host.upsert_file(&name, document_contents(&text));
+            let contents = document_contents(&text);
+            if !self.holds(&name, &contents) {
+                self.generation += 1;
+            }
+            self.host.upsert_file(&name, contents);
             self.revision += 1;
             self.republish.insert(name.clone());
         }
@@ -516,6 +646,7 @@ impl World {
                         .upsert_file(&name, document_contents(&document.text));
                 }
                 self.revision += 1;
+                self.generation += 1;
                 self.republish.insert(name);
             }
             Err(rejected) => self.log(
@@ -543,11 +674,23 @@ impl World {
         // The disk is the truth again.
         if self.disk_files.contains(&name) {
             let contents = self.read(&name);
+            if !self.holds(&name, &contents) {
+                self.generation += 1;
+            }
             self.host.upsert_file(&name, contents);
         } else {
             self.host.remove_file(&name);
+            self.generation += 1;
         }
         self.revision += 1;
+    }
+
+    /// Whether the database holds exactly these contents for the file.
+    fn holds(&self, name: &str, contents: &FileContents) -> bool {
+        self.host
+            .analysis()
+            .file_contents(name)
+            .is_some_and(|held| *held == *contents)
     }
 
     /// The contents of a workspace file on disk: as `check` reads it (only a regular file
@@ -594,11 +737,13 @@ impl World {
             if deleted {
                 if self.host.remove_file(&name) {
                     self.revision += 1;
+                    self.generation += 1;
                 }
             } else {
                 let contents = self.read(&name);
                 self.host.upsert_file(&name, contents);
                 self.revision += 1;
+                self.generation += 1;
             }
         }
         if reload {
@@ -675,7 +820,7 @@ impl World {
             let version = self.documents.get(&name).map(|d| d.version);
             let _ = self.to_client.send(ToClient::Publish {
                 uri: uri.clone(),
-                diagnostics: diagnostics.to_vec(),
+                diagnostics: self.with_test_failures(&name, &diagnostics),
                 version,
             });
             self.published.insert(name, (uri, diagnostics));

@@ -11,7 +11,7 @@ use std::ops::Range;
 use annotate_snippets::{AnnotationKind, Group, Level, Origin, Renderer, Snippet};
 use higraph_analysis::{FileContents, Severity, TextRange, TextSize};
 
-use super::{Report, SourceFile, Sources, one_line};
+use super::{Report, Reported, SourceFile, Sources, one_line};
 
 pub(super) fn render(report: &Report, sources: &Sources, color: bool) -> String {
     if report.diagnostics.is_empty() {
@@ -22,8 +22,31 @@ pub(super) fn render(report: &Report, sources: &Sources, color: bool) -> String 
     } else {
         Renderer::plain()
     };
+    let mut out = blocks(&report.diagnostics, sources, &renderer);
+    let summary = report.summary;
+    let worst = summary.worst().unwrap_or(Severity::Error);
+    let line = [Group::with_title(
+        level(worst).primary_title(summary.counts_text()),
+    )];
+    out.push_str(&renderer.render(&line));
+    out.push('\n');
+    out
+}
+
+/// The blocks of `diagnostics` in the given order, each followed by a blank line, without the
+/// summary line (`test` prints its failures this way).
+pub(super) fn render_blocks(diagnostics: &[Reported], sources: &Sources, color: bool) -> String {
+    let renderer = if color {
+        Renderer::styled()
+    } else {
+        Renderer::plain()
+    };
+    blocks(diagnostics, sources, &renderer)
+}
+
+fn blocks(diagnostics: &[Reported], sources: &Sources, renderer: &Renderer) -> String {
     let mut out = String::new();
-    for reported in &report.diagnostics {
+    for reported in diagnostics {
         let diagnostic = &reported.diagnostic;
         let source = sources.get(reported.file);
         let message = one_line(&diagnostic.message);
@@ -77,13 +100,6 @@ pub(super) fn render(report: &Report, sources: &Sources, color: bool) -> String 
         }
         out.push_str("\n\n");
     }
-    let summary = report.summary;
-    let worst = summary.worst().unwrap_or(Severity::Error);
-    let line = [Group::with_title(
-        level(worst).primary_title(summary.counts_text()),
-    )];
-    out.push_str(&renderer.render(&line));
-    out.push('\n');
     out
 }
 

@@ -76,6 +76,21 @@ impl Sources {
         &self.get(file).name
     }
 
+    /// The name of a file relative to the current directory.
+    pub(crate) fn shown(&self, file: FileId) -> &str {
+        &self.get(file).shown
+    }
+
+    /// The 1-based line and character column of an offset in a file.
+    pub(crate) fn line_column(
+        &self,
+        file: FileId,
+        offset: higraph_analysis::TextSize,
+    ) -> (u32, u32) {
+        let position = self.get(file).line_index.line_column(offset);
+        (position.line, position.column)
+    }
+
     fn get(&self, file: FileId) -> &SourceFile {
         &self.files[file.0 as usize]
     }
@@ -186,6 +201,15 @@ pub(crate) fn render(format: Format, report: &Report, sources: &Sources, color: 
         Format::Github => github::render(report, sources),
         Format::Sarif => sarif::render(report, sources),
     }
+}
+
+/// The `--format human` blocks of `diagnostics`, in the given order, without a summary line.
+pub(crate) fn render_human_blocks(
+    diagnostics: &[Reported],
+    sources: &Sources,
+    color: bool,
+) -> String {
+    human::render_blocks(diagnostics, sources, color)
 }
 
 /// A message on one line: line breaks become spaces (messages are one line by contract; this
