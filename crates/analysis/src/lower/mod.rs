@@ -206,6 +206,27 @@ impl Analysis {
     }
 }
 
+/// Every test path of a test item with what its segments name (ranges in `test`'s own
+/// coordinates; paths that do not resolve have no segments): what the editor's per-item uses
+/// (`ide/defs.rs`) record of a test.
+pub(crate) fn test_item_paths(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    test: &ast::Test,
+) -> Vec<(ast::TestPath, Vec<(TextRange, SegmentDef)>)> {
+    with_resolver(db, ws, file, test, |r| {
+        test.syntax()
+            .descendants()
+            .filter_map(ast::TestPath::cast)
+            .map(|path| {
+                let segments = r.resolve(&path).map(|res| res.segments).unwrap_or_default();
+                (path, segments)
+            })
+            .collect()
+    })
+}
+
 fn not_found(name: &str, path: &str) -> Diagnostic {
     Diagnostic::new(
         Code::new("HG9904"),
