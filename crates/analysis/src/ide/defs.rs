@@ -1949,7 +1949,7 @@ symbols < Start : E 0.0; >
         ");
     }
 
-    pub(crate) const TESTED: &str = r#"//- plant.higraph
+    const TESTED: &str = r#"//- plant.higraph
 graph Ventil <
   in < Oben : BOOL; >
   out < Auf : BOOL; >

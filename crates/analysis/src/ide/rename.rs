@@ -810,6 +810,199 @@ symbols <
         "#);
     }
 
+    const TESTED: &str = r#"//- plant.higraph
+graph Ventil <
+  in < Oben : BOOL; >
+  out < Auf : BOOL; >
+  state 0 < C: U Oben; = Auf; >
+  trans any->0 < U INIT_SD; >
+>
+group Anlage fc FC 1 db DB 1 <
+  instance V1 : Ventil < Oben := Start; >
+>
+chart Mischer <
+  in < Freigabe : BOOL; >
+  sequencer RUN <
+    start < Freigabe; >
+    step Heizen < >
+    trans T1 < Freigabe; >
+  >
+>
+symbols < Start : E 0.0 BOOL; "Motor 1" : A 1.0 BOOL; >
+//- tests.higraph
+test T1 <
+  run Anlage, Mischer;
+  set Start := TRUE;
+  set V1.Oben := TRUE;
+  set Mischer.Freigabe := TRUE;
+  step;
+  expect Anlage.V1.Auf and V1.state = 0;
+  expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+  command Mischer start;
+  confirm Mischer.Heizen;
+>
+"#;
+
+    /// Renames at the cursor; renders the changed files' names and the test file, and checks
+    /// that the diagnostics stay the same.
+    fn check_tests(fixture_text: &str, new_name: &str) -> String {
+        let f = fixture::load(fixture_text);
+        let analysis = f.host.analysis();
+        let change = match analysis.rename(&f.position, new_name) {
+            Ok(Ok(change)) => change,
+            Ok(Err(message)) => return format!("refused: {message}"),
+            Err(_) => return "cancelled".to_owned(),
+        };
+        let after = apply(&f.files, &change);
+        assert_eq!(codes(&f.files), codes(&after), "renaming to {new_name}");
+        let changed: Vec<String> = change.files.iter().map(|(p, _)| p.clone()).collect();
+        let tests = after
+            .iter()
+            .find(|(p, _)| p == "tests.higraph")
+            .map(|(_, t)| t.clone())
+            .unwrap_or_default();
+        format!("changed: {}\n{tests}", changed.join(", "))
+    }
+
+    #[test]
+    fn renames_reach_into_test_paths() {
+        let group = cursor(TESTED, "tests.higraph", "Anlage,");
+        insta::assert_snapshot!(check_tests(&group, "Werk"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Werk, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Werk.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let chart = cursor(TESTED, "plant.higraph", "Mischer <");
+        insta::assert_snapshot!(check_tests(&chart, "Ruehrer"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Ruehrer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Ruehrer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Ruehrer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Ruehrer start;
+          confirm Ruehrer.Heizen;
+        >
+        "#);
+        let instance = cursor(TESTED, "tests.higraph", "V1.state");
+        insta::assert_snapshot!(check_tests(&instance, "Ventil_1"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set Ventil_1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.Ventil_1.Auf and Ventil_1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let variable = cursor(TESTED, "tests.higraph", "Auf and");
+        insta::assert_snapshot!(check_tests(&variable, "Offen"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Offen and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let step = cursor(TESTED, "plant.higraph", "Heizen <");
+        insta::assert_snapshot!(check_tests(&step, "Waermen"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Waermen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Waermen;
+        >
+        "#);
+        let chart_var = cursor(TESTED, "tests.higraph", "Freigabe :=");
+        insta::assert_snapshot!(check_tests(&chart_var, "Erlaubt"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Erlaubt := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let symbol = cursor(TESTED, "tests.higraph", "Start :=");
+        insta::assert_snapshot!(check_tests(&symbol, "Los"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Los := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let quoted = cursor(TESTED, "plant.higraph", "Motor 1");
+        insta::assert_snapshot!(check_tests(&quoted, "Motor 2"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 2";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let sequencer = cursor(TESTED, "tests.higraph", "RUN.");
+        insta::assert_snapshot!(check_tests(&sequencer, "Ablauf"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.Ablauf.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+    }
+
     #[test]
     fn instance_updates_message_prefixes() {
         let text = cursor(PLANT, "group.higraph", "V2 : Ventil");
