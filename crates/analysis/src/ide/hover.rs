@@ -1076,7 +1076,7 @@ test T1 <
   run Anlage, Mischer;
   set V1.Oben := TRUE;
   expect V1.state = 0 and V1.previous = 0 and V1.ManualMode;
-  expect Mischer.RUN.Heizen.T > T#0S and Mischer.Heizen.error and Mischer.state = IDLE;
+  expect Mischer.RUN.Heizen.T > T#0S and Mischer.Heizen.error and Mischer.state = Ready;
   expect Dosieren.calls = 0 and Dosieren.Menge = 0 and MW 10 = 0;
 >
 "#;
@@ -1174,7 +1174,7 @@ test T1 <
 
         step `Heizen` is active longer than its supervision time
         ");
-        insta::assert_snapshot!(in_test("state = IDLE"), @"
+        insta::assert_snapshot!(in_test("state = Ready"), @"
         [state]
         ```higraph
         Mischer.state : operating state

@@ -37,7 +37,7 @@ mod values;
 
 pub use build::dump;
 pub use paths::SegmentDef;
-pub(crate) use paths::{PathTarget, Resolution};
+pub(crate) use paths::{PathTarget, Resolution, RunScope, ScopeChart, block_key, run_list};
 
 /// A `test` item of the workspace.
 #[derive(Debug, Clone, PartialEq, Eq)]
