@@ -212,6 +212,7 @@ pub(crate) fn rename(
     let new_text = rules.validate(db, ws, new_name, &references)?;
     if !new_text.eq_ignore_ascii_case(&old_name) {
         check_free(db, ws, definition, &new_text)?;
+        test_paths_keep_meaning(db, ws, definition, &new_text, &references)?;
     }
     let mut change = SourceChange::default();
     let mut quoting = Quoting::default();
@@ -518,6 +519,111 @@ fn check_free(
             Ok(())
         }
         Definition::Predefined { .. } | Definition::BlockInterface(_) => Ok(()),
+    }
+}
+
+/// A name that test paths use must keep what they mean: a path's first name is read as a
+/// chart, a group, then an instance, and inside a chart `state`, a variable, a sequencer, then
+/// a step (`runtime.md` §5.3), so a new name that another of those already has would change
+/// or break the paths.
+fn test_paths_keep_meaning(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    definition: &Definition,
+    new_name: &str,
+    references: &[Reference],
+) -> Result<(), String> {
+    let in_tests = references.iter().any(|r| {
+        item_at(db, r.file, r.range).and_then(|i| defs::item_kind(db, i)) == Some(ItemKind::Test)
+    });
+    if !in_tests {
+        return Ok(());
+    }
+    let same = |a: &str| a.eq_ignore_ascii_case(new_name);
+    let refuse = |why: String| Err(format!("test paths use this name, and {why}"));
+    let instance_elsewhere = || {
+        defs::items_of_kind(db, ws, &[ItemKind::Group])
+            .into_iter()
+            .filter_map(|g| db::item_root(db, defs::item_loc(db, g)).and_then(ast::Group::cast))
+            .any(|g| {
+                g.instances()
+                    .filter_map(|i| i.name())
+                    .any(|n| same(&n.text()))
+            })
+    };
+    let chart_node =
+        |chart: &ItemId| db::item_root(db, defs::item_loc(db, *chart)).and_then(ast::Chart::cast);
+    let step_named = |chart: &ast::Chart| {
+        chart
+            .syntax()
+            .descendants()
+            .filter_map(ast::Step::cast)
+            .filter_map(|s| s.name())
+            .any(|n| same(&n.text()))
+    };
+    let sequencer_named = |chart: &ast::Chart| {
+        chart
+            .sequencers()
+            .filter_map(|s| s.name())
+            .any(|n| same(&n.text()))
+    };
+    match definition {
+        Definition::Instance { .. } => {
+            let index = db::global_index(db, ws);
+            if let Some(item) = index.item(new_name)
+                && matches!(item.kind, ItemKind::Group | ItemKind::Chart)
+            {
+                return refuse(format!("a path starting with '{new_name}' names that item"));
+            }
+            if instance_elsewhere() {
+                return refuse(format!(
+                    "another instance is named '{new_name}': its paths would be ambiguous"
+                ));
+            }
+            Ok(())
+        }
+        Definition::Group(_) | Definition::Chart(_) if instance_elsewhere() => refuse(format!(
+            "an instance is named '{new_name}': its paths would name this item"
+        )),
+        Definition::Variable { owner, .. } => match defs::item_kind(db, *owner) {
+            Some(ItemKind::Graph) if same("state") || same("previous") => {
+                refuse(format!("'Inst.{new_name}' is the instance's state"))
+            }
+            Some(ItemKind::Chart) => {
+                let chart = chart_node(owner);
+                if same("state") || chart.as_ref().is_some_and(step_named) {
+                    refuse(format!(
+                        "'Chart.{new_name}' names a step or the chart's state"
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+            _ => Ok(()),
+        },
+        Definition::Step { chart, .. } => {
+            let node = chart_node(chart);
+            let taken = same("state")
+                || defs::var_decl(db, *chart, new_name).is_some()
+                || node
+                    .as_ref()
+                    .is_some_and(|c| sequencer_named(c) || step_named(c));
+            if taken {
+                refuse(format!(
+                    "'{new_name}' is a variable, sequencer, step or the state of the chart"
+                ))
+            } else {
+                Ok(())
+            }
+        }
+        Definition::Sequencer { chart, .. } => {
+            if chart_node(chart).as_ref().is_some_and(step_named) {
+                refuse(format!("the chart has a step '{new_name}'"))
+            } else {
+                Ok(())
+            }
+        }
+        _ => Ok(()),
     }
 }
 
@@ -1001,6 +1107,21 @@ test T1 <
           confirm Mischer.Heizen;
         >
         "#);
+    }
+
+    #[test]
+    fn renames_that_would_change_test_paths_are_refused() {
+        let instance = cursor(TESTED, "tests.higraph", "V1.state");
+        insta::assert_snapshot!(refused(&instance, "Mischer"), @"test paths use this name, and a path starting with 'Mischer' names that item");
+        let chart_var = cursor(TESTED, "tests.higraph", "Freigabe :=");
+        insta::assert_snapshot!(refused(&chart_var, "Heizen"), @"test paths use this name, and 'Chart.Heizen' names a step or the chart's state");
+        let step = cursor(TESTED, "plant.higraph", "Heizen <");
+        insta::assert_snapshot!(refused(&step, "Freigabe"), @"test paths use this name, and 'Freigabe' is a variable, sequencer, step or the state of the chart");
+        insta::assert_snapshot!(refused(&step, "RUN"), @"test paths use this name, and 'RUN' is a variable, sequencer, step or the state of the chart");
+        let variable = cursor(TESTED, "tests.higraph", "Auf and");
+        insta::assert_snapshot!(refused(&variable, "previous"), @"test paths use this name, and 'Inst.previous' is the instance's state");
+        let chart = cursor(TESTED, "plant.higraph", "Mischer <");
+        insta::assert_snapshot!(refused(&chart, "V1"), @"test paths use this name, and an instance is named 'V1': its paths would name this item");
     }
 
     #[test]
