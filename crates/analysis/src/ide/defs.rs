@@ -7,7 +7,10 @@
 //! `instance X : Graph`, both sides of actual parameters, `Inst.Msg`, `fc`/`db` names, chart
 //! operands and jump/loop targets — resolved by the rules' own resolution
 //! ([`crate::resolve`] in graphs, the actual-value resolution of groups, the chart operand
-//! resolution), with its access kind (Appendix E) and a range relative to the item. Like the
+//! resolution), with its access kind (Appendix E) and a range relative to the item. A `test`
+//! item's uses are its `run` and `command` entries and every segment of its test paths that
+//! names a declaration of another item (`UseTarget::Def`), found by the test path resolver
+//! (`lower/paths.rs`), so references, rename and hover reach into tests. Like the
 //! rules' results it is position-independent, so an edit in one item leaves the uses of the
 //! others cached, and a workspace-wide search only filters cached vectors.
 
