@@ -302,6 +302,15 @@ fn test_uses(
         }
     }
     let paths = crate::lower::test_item_paths(db, ws, file, test);
+    // The workspace's files by path, built once: segments name their declarations by path.
+    let files: std::collections::HashMap<&str, File> = if paths.is_empty() {
+        std::collections::HashMap::new()
+    } else {
+        ws.files(db)
+            .iter()
+            .map(|f| (f.path(db).as_str(), *f))
+            .collect()
+    };
     for (path, segments) in paths {
         let written = path
             .syntax()
@@ -312,7 +321,7 @@ fn test_uses(
         let last = segments.len().saturating_sub(1);
         let mut previous: Option<Definition> = None;
         for (i, (range, segment)) in segments.iter().enumerate() {
-            let definition = segment_definition(db, ws, segment, previous.as_ref());
+            let definition = segment_definition(db, ws, &files, segment, previous.as_ref());
             let kind = match (i == last, written) {
                 (false, _) => ReferenceKind::Name,
                 (true, true) => ReferenceKind::Write,
@@ -354,6 +363,7 @@ fn test_uses(
 fn segment_definition(
     db: &dyn salsa::Database,
     ws: Workspace,
+    files: &std::collections::HashMap<&str, File>,
     segment: &SegmentDef,
     previous: Option<&Definition>,
 ) -> Option<Definition> {
@@ -392,7 +402,7 @@ fn segment_definition(
         | SegmentDef::Sequencer { file, range }
         | SegmentDef::Step { file, range } => {
             // The declaration's name: what a cursor on it refers to.
-            let file = *ws.files(db).iter().find(|f| f.path(db) == file)?;
+            let file = *files.get(file.as_str())?;
             let offsets = db::item_offsets(db, file);
             let at = offsets.partition_point(|start| *start <= range.start());
             let item = ItemId {
