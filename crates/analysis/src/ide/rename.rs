@@ -731,12 +731,36 @@ impl Quoting {
         let Some(item) = item_at(db, reference.file, reference.range) else {
             return true;
         };
+        if defs::item_kind(db, item) == Some(ItemKind::Test) {
+            // A path's first name is read as a chart, group or instance before a block
+            // (`Sym.calls`); quoted it stays the symbol.
+            return !names_chart_group_or_instance(db, ws, new_name);
+        }
         let captured = *self
             .captured
             .entry(item)
             .or_insert_with(|| has_variable(db, item, new_name));
         !captured
     }
+}
+
+/// Does `name` name a group or chart item, or an instance of a group?
+fn names_chart_group_or_instance(db: &dyn salsa::Database, ws: Workspace, name: &str) -> bool {
+    let index = db::global_index(db, ws);
+    if index
+        .item(name)
+        .is_some_and(|i| matches!(i.kind, ItemKind::Group | ItemKind::Chart))
+    {
+        return true;
+    }
+    defs::items_of_kind(db, ws, &[ItemKind::Group])
+        .into_iter()
+        .filter_map(|g| db::item_root(db, defs::item_loc(db, g)).and_then(ast::Group::cast))
+        .any(|g| {
+            g.instances()
+                .filter_map(|i| i.name())
+                .any(|n| n.text().eq_ignore_ascii_case(name))
+        })
 }
 
 /// The item of `file` that holds `range`.
@@ -1122,6 +1146,34 @@ test T1 <
         insta::assert_snapshot!(refused(&variable, "previous"), @"test paths use this name, and 'Inst.previous' is the instance's state");
         let chart = cursor(TESTED, "plant.higraph", "Mischer <");
         insta::assert_snapshot!(refused(&chart, "V1"), @"test paths use this name, and an instance is named 'V1': its paths would name this item");
+    }
+
+    #[test]
+    fn symbols_in_test_paths_are_quoted_where_a_run_name_would_capture_them() {
+        let text = r#"//- plant.higraph
+graph Ventil < state 0 < > trans any->0 < U INIT_SD; > >
+group Anlage < instance V1 : Ventil < > >
+symbols < Dosieren : FC 10; >
+//- tests.higraph
+test T <
+  run Anlage;
+  expect $0Dosieren.calls = 0;
+>
+"#;
+        insta::assert_snapshot!(check_tests(text, "V1"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T <
+          run Anlage;
+          expect "V1".calls = 0;
+        >
+        "#);
+        insta::assert_snapshot!(check_tests(text, "Zuteilen"), @"
+        changed: plant.higraph, tests.higraph
+        test T <
+          run Anlage;
+          expect Zuteilen.calls = 0;
+        >
+        ");
     }
 
     #[test]
