@@ -32,6 +32,7 @@ use higraph_syntax::{
 };
 
 use super::FilePosition;
+use crate::lower::RunScope;
 use crate::rules::graph::facts::MemberFacts;
 use crate::{
     Analysis, Cancellable,
@@ -41,6 +42,7 @@ use crate::{
     resolve,
     rules::group::interface::{GraphInterface, InterfaceVar, MsgDir, graph_interface},
 };
+use higraph_runtime::program::OpState;
 
 // ------------------------------------------------------------------------------ public API
 
@@ -701,6 +703,13 @@ enum Site {
     Command,
     /// After `restart`.
     RestartMode,
+    /// The start of a test path (the TEST node): instances, groups and charts of the run
+    /// list, symbols.
+    TestOperand(SyntaxNode),
+    /// After `Prefix.` in a test path (the TEST node, the segments before the dot).
+    TestMember(SyntaxNode, Vec<String>),
+    /// After `Chart.state =` in a test: the operating states.
+    OpStates,
     /// Nothing to propose.
     Nothing,
 }
@@ -732,6 +741,18 @@ fn classify(root: &SyntaxNode, cursor: &Cursor) -> Site {
     let (kind, parent_kind) = cursor.prev_kinds();
     let same_line = !cursor.new_line;
     match (kind, parent_kind) {
+        (Some(DOT), _) if ancestor(prev, &[TEST]).is_some() => test_member_site(prev),
+        (Some(EQ | L_ANGLE), _) if same_line && after_chart_state(prev) => Site::OpStates,
+        (
+            Some(
+                SET_KW | EXPECT_KW | UNTIL_KW | CONFIRM_KW | AND_KW | OR_KW | XOR_KW | NOT_KW | EQ
+                | L_ANGLE | R_ANGLE | L_PAREN | PLUS | MINUS | STAR | SLASH,
+            ),
+            _,
+        ) if same_line && ancestor(prev, &[TEST]).is_some() => match ancestor(prev, &[TEST]) {
+            Some(test) => Site::TestOperand(test),
+            None => Site::Nothing,
+        },
         (_, Some(OPCODE)) => {
             let Some(stmt) = parent.parent() else {
                 return Site::Nothing;
@@ -941,6 +962,60 @@ fn after_type(type_ref: &SyntaxNode) -> Site {
     }
 }
 
+/// After a `.` in a test: the members of the path written before it (names and dots with
+/// nothing between them, a quoted symbol first).
+fn test_member_site(dot: &SyntaxToken) -> Site {
+    let Some(test) = ancestor(dot, &[TEST]) else {
+        return Site::Nothing;
+    };
+    let mut names = Vec::new();
+    let mut token = dot.prev_token();
+    // At most a few dozen segments: a path is short; the bound keeps the walk linear.
+    for _ in 0..64 {
+        let Some(name) = token.filter(|t| {
+            t.kind() == STRING
+                || (!t.kind().is_trivia()
+                    && !t.text().is_empty()
+                    && t.text()
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '_'))
+        }) else {
+            break;
+        };
+        names.push(ast::unquote(name.text()).to_owned());
+        match name.prev_token() {
+            Some(d) if d.kind() == DOT => token = d.prev_token(),
+            _ => break,
+        }
+    }
+    if names.is_empty() {
+        return Site::Nothing;
+    }
+    names.reverse();
+    Site::TestMember(test, names)
+}
+
+/// Is `op` (`=` or `<>`) the operator after `Chart.state` in a test?
+fn after_chart_state(op: &SyntaxToken) -> bool {
+    if ancestor(op, &[TEST]).is_none() {
+        return false;
+    }
+    let mut before = op.prev_token();
+    if op.kind() == R_ANGLE {
+        before = before.and_then(|t| t.prev_token());
+    }
+    while let Some(t) = before.as_ref().filter(|t| t.kind().is_trivia()) {
+        before = t.prev_token();
+    }
+    let Some(state) = before else {
+        return false;
+    };
+    state.text().eq_ignore_ascii_case("state")
+        && state
+            .prev_token()
+            .is_some_and(|d| d.kind() == DOT && d.prev_token().is_some_and(|c| c.kind() == IDENT))
+}
+
 /// After a `.`: the incoming messages of an instance, in an actual parameter.
 fn message_site(dot: &SyntaxToken) -> Site {
     let Some(actual) = ancestor(dot, &[ACTUAL]) else {
@@ -1125,6 +1200,7 @@ fn matches_typed(label: &str, typed: &str) -> bool {
 /// Everything a completion needs.
 struct Completer<'a> {
     db: &'a dyn salsa::Database,
+    ws: Workspace,
     file: File,
     root: SyntaxNode,
     mnemonic: Mnemonic,
@@ -1154,6 +1230,7 @@ fn complete(
     };
     let mut completer = Completer {
         db,
+        ws,
         file,
         root,
         mnemonic: db::file_mnemonic(db, ws, file),
@@ -1257,7 +1334,220 @@ impl<'a> Completer<'a> {
                 );
                 self.value(0, "warm", "buffered: memory kept, INIT_SD = 1 next cycle");
             }
+            Site::TestOperand(test) => self.test_operand(&test),
+            Site::TestMember(test, names) => self.test_members(&test, &names),
+            Site::OpStates => {
+                for state in OpState::ALL {
+                    self.value(0, state.name(), "operating state of a chart");
+                }
+            }
             Site::Nothing => {}
+        }
+    }
+
+    // -------------------------------------------------------------------- test paths
+
+    /// The run scope of the test at `test`.
+    fn run_scope(&self, test: &SyntaxNode) -> Option<RunScope> {
+        let test = ast::Test::cast(test.clone())?;
+        let run = crate::lower::run_list(self.db, self.ws, &test);
+        Some(RunScope::build(self.db, self.ws, &run))
+    }
+
+    /// The first names of a test path: the instances, groups and charts the test runs, then
+    /// the symbols.
+    fn test_operand(&mut self, test: &SyntaxNode) {
+        let Some(scope) = self.run_scope(test) else {
+            return;
+        };
+        let mut seen = HashSet::new();
+        for group in &scope.groups {
+            for instance in &group.instances {
+                if seen.insert(index::key(&instance.name))
+                    && let Some(item) =
+                        self.out
+                            .add(0, instance.name.clone(), CompletionKind::Instance)
+                {
+                    item.detail = Some(format!("instance of group {}", group.name));
+                }
+            }
+        }
+        for chart in &scope.charts {
+            if let Some(item) = self.out.add(0, chart.name.clone(), CompletionKind::Graph) {
+                item.detail = Some("chart".to_owned());
+            }
+        }
+        for group in &scope.groups {
+            if let Some(item) = self
+                .out
+                .add(1, group.name.clone(), CompletionKind::Instance)
+            {
+                item.detail = Some("group".to_owned());
+            }
+        }
+        self.symbols(&[], false, &GraphInterface::default());
+    }
+
+    /// What may follow `names.` in a test path (`runtime.md` §5.3).
+    fn test_members(&mut self, test: &SyntaxNode, names: &[String]) {
+        let Some(scope) = self.run_scope(test) else {
+            return;
+        };
+        let same = |a: &str, b: &str| a.eq_ignore_ascii_case(b);
+        let first = names[0].as_str();
+        if let Some(chart) = scope.charts.iter().find(|c| same(&c.name, first)) {
+            self.chart_path_members(chart, &names[1..]);
+            return;
+        }
+        let group = scope.groups.iter().find(|g| same(&g.name, first));
+        let instance = match (group, names.len()) {
+            (Some(group), 1) => {
+                for instance in &group.instances {
+                    if let Some(item) =
+                        self.out
+                            .add(0, instance.name.clone(), CompletionKind::Instance)
+                    {
+                        item.detail = Some(format!("instance of group {}", group.name));
+                    }
+                }
+                return;
+            }
+            (Some(group), 2) => group.instances.iter().find(|i| same(&i.name, &names[1])),
+            (None, 1) => scope
+                .groups
+                .iter()
+                .flat_map(|g| g.instances.iter())
+                .find(|i| same(&i.name, first)),
+            _ => None,
+        };
+        if let Some(instance) = instance {
+            self.instance_members(instance.graph);
+            return;
+        }
+        if names.len() == 1 {
+            self.block_members(first);
+        }
+    }
+
+    /// `Inst.`: the graph's variables, its predefined variables, `state` and `previous`.
+    fn instance_members(&mut self, graph: (File, u32)) {
+        let loc = ItemLoc::new(self.db, graph.0, graph.1);
+        if let Some(scope) = db::graph_scope(self.db, loc).as_ref() {
+            for var in scope.vars.iter() {
+                if let Some(item) = self.out.add(0, var.name.clone(), CompletionKind::Variable) {
+                    let ty = var.ty.map_or_else(|| "?".to_owned(), |t| t.to_string());
+                    item.detail = Some(format!("{} {ty}", var.section.as_str()));
+                }
+            }
+        }
+        self.out
+            .keyword(1, "state", "WORD: the instance's current state");
+        self.out.keyword(
+            1,
+            "previous",
+            "WORD: the state before the last state change",
+        );
+        for p in lang::PREDEFINED.iter().filter(|p| !p.internal) {
+            if let Some(item) = self.out.add(2, p.name, CompletionKind::PredefinedVariable) {
+                item.detail = Some(format!("predefined {}", p.ty));
+                item.documentation = Some(p.meaning.to_owned());
+            }
+        }
+    }
+
+    /// `Chart.`, `Chart.Seq.`, `Chart.[Seq.]Step.`.
+    fn chart_path_members(&mut self, chart: &crate::lower::ScopeChart, rest: &[String]) {
+        let same = |a: &str, b: &str| a.eq_ignore_ascii_case(b);
+        let step_members = |out: &mut Proposals| {
+            out.keyword(0, "X", "BOOL: the step is active");
+            out.keyword(0, "T", "TIME: how long the step has been active");
+            out.keyword(0, "error", "BOOL: the step exceeded its supervision time");
+        };
+        match rest {
+            [] => {
+                for (name, _, ty) in &chart.vars {
+                    if let Some(item) = self.out.add(0, name.clone(), CompletionKind::Variable) {
+                        item.detail = Some(ty.map_or_else(|| "?".to_owned(), |t| t.to_string()));
+                    }
+                }
+                for sequencer in &chart.sequencers {
+                    if let Some(item) =
+                        self.out
+                            .add(1, sequencer.name.clone(), CompletionKind::Step)
+                    {
+                        item.detail = Some("sequencer".to_owned());
+                    }
+                }
+                for sequencer in &chart.sequencers {
+                    for (step, _) in &sequencer.steps {
+                        if let Some(item) = self.out.add(1, step.clone(), CompletionKind::Step) {
+                            item.detail = Some(format!("step of sequencer {}", sequencer.name));
+                        }
+                    }
+                }
+                self.out.keyword(2, "state", "the chart's operating state");
+            }
+            [name] => {
+                if let Some(sequencer) = chart.sequencers.iter().find(|s| same(&s.name, name)) {
+                    for (step, _) in &sequencer.steps {
+                        if let Some(item) = self.out.add(0, step.clone(), CompletionKind::Step) {
+                            item.detail = Some(format!("step of sequencer {}", sequencer.name));
+                        }
+                    }
+                } else if chart
+                    .sequencers
+                    .iter()
+                    .any(|s| s.steps.iter().any(|(n, _)| same(n, name)))
+                {
+                    step_members(&mut self.out);
+                }
+            }
+            [sequencer, step] => {
+                let found = chart.sequencers.iter().any(|s| {
+                    same(&s.name, sequencer) && s.steps.iter().any(|(n, _)| same(n, step))
+                });
+                if found {
+                    step_members(&mut self.out);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// `Block.`: `calls` and the outputs of its declared interface.
+    fn block_members(&mut self, written: &str) {
+        let index = self.index;
+        let Some((key, name)) = crate::lower::block_key(index, written, self.mnemonic) else {
+            return;
+        };
+        self.out
+            .keyword(1, "calls", &format!("DINT: how often {name} was called"));
+        for entry in &index.block_interfaces {
+            let reference = ast::unquote(entry.reference.trim());
+            let same = crate::lower::block_key(index, reference, self.mnemonic)
+                .is_some_and(|(k, _)| k == key)
+                || reference.eq_ignore_ascii_case(written);
+            if !same {
+                continue;
+            }
+            let loc = ItemLoc::new(self.db, entry.file, entry.item);
+            let Some(ast::Item::BlockInterface(interface)) =
+                db::item_root(self.db, loc).and_then(ast::Item::cast)
+            else {
+                return;
+            };
+            for (section, decl) in crate::rules::decls::declarations(interface.var_sections()) {
+                if !matches!(section, Section::Out | Section::InOut) {
+                    continue;
+                }
+                let Some(formal) = decl.name().map(|n| n.text()) else {
+                    continue;
+                };
+                if let Some(item) = self.out.add(0, formal, CompletionKind::Formal) {
+                    item.detail = Some(format!("{} of {name}: its stub value", section.as_str()));
+                }
+            }
+            return;
         }
     }
 
@@ -2141,6 +2431,95 @@ Keyword mnemonic · the STL mnemonics of this file
 
     const TEST_WORKSPACE: &str =
         "group Linie < >\nchart Tank < >\nchart type Vorlage < >\ngraph Blink < >\n";
+
+    const PATH_WORKSPACE: &str = r#"//- plant.higraph
+graph Ventil <
+  in < Oben : BOOL; >
+  out < Auf : BOOL; >
+  state 0 < C: U Oben; = Auf; >
+  trans any->0 < U INIT_SD; >
+>
+group Anlage fc FC 1 db DB 1 <
+  instance V1 : Ventil < Oben := Start; >
+>
+chart Mischer <
+  in < Freigabe : BOOL; >
+  sequencer RUN <
+    start < Freigabe; >
+    step Heizen < >
+    trans T1 < Freigabe; >
+  >
+>
+symbols < Start : E 0.0 BOOL; Dosieren : FC 10; >
+block Dosieren < in < Soll : INT; > out < Menge : INT; > in_out < Stand : INT; > >
+//- tests.higraph
+test T1 <
+  run Anlage, Mischer;
+  CURSOR
+>
+"#;
+
+    fn in_path(statement: &str) -> Vec<CompletionItem> {
+        complete(&PATH_WORKSPACE.replace("CURSOR", statement))
+    }
+
+    #[test]
+    fn test_path_members() {
+        insta::assert_snapshot!(render(&in_path("set V1.$0")).lines().take(5).collect::<Vec<_>>().join("\n"), @"
+        Variable Oben · in BOOL
+        Variable Auf · out BOOL
+        Keyword state · WORD: the instance's current state
+        Keyword previous · WORD: the state before the last state change
+        PredefinedVariable ManualMode · predefined BOOL
+        ");
+        let instance = in_path("expect Anlage.V1.$0");
+        assert!(
+            labels(&instance, CompletionKind::PredefinedVariable)
+                .contains(&"ManualMode".to_owned())
+        );
+        assert_eq!(labels(&instance, CompletionKind::Variable), ["Oben", "Auf"]);
+        insta::assert_snapshot!(render(&in_path("expect Anlage.$0")), @"Instance V1 · instance of group Anlage");
+        insta::assert_snapshot!(render(&in_path("expect Mischer.$0")), @"
+        Variable Freigabe · BOOL
+        Step RUN · sequencer
+        Step Heizen · step of sequencer RUN
+        Keyword state · the chart's operating state
+        ");
+        insta::assert_snapshot!(render(&in_path("expect Mischer.RUN.$0")), @"Step Heizen · step of sequencer RUN");
+        insta::assert_snapshot!(render(&in_path("expect Mischer.RUN.Heizen.$0")), @"
+        Keyword X · BOOL: the step is active
+        Keyword T · TIME: how long the step has been active
+        Keyword error · BOOL: the step exceeded its supervision time
+        ");
+        insta::assert_snapshot!(render(&in_path("expect Mischer.Heizen.T$0")), @"Keyword T · TIME: how long the step has been active");
+        insta::assert_snapshot!(render(&in_path("expect Dosieren.$0")), @"
+        Formal Menge · out of Dosieren: its stub value
+        Formal Stand · in_out of Dosieren: its stub value
+        Keyword calls · DINT: how often Dosieren was called
+        ");
+        let states = in_path("expect Mischer.state = $0");
+        assert_eq!(states.len(), 16);
+        assert_eq!(states[0].label, "Ready");
+        insta::assert_snapshot!(render(&in_path("expect V1.Auf and $0")), @"
+        Instance V1 · instance of group Anlage
+        Graph Mischer · chart
+        Instance Anlage · group
+        Symbol Start · E 0.0 BOOL
+        ");
+        insta::assert_snapshot!(render(&in_path("set $0")), @"
+        Instance V1 · instance of group Anlage
+        Graph Mischer · chart
+        Instance Anlage · group
+        Symbol Start · E 0.0 BOOL
+        ");
+        insta::assert_snapshot!(render(&in_path("set V1.Auf := $0")), @"
+        Instance V1 · instance of group Anlage
+        Graph Mischer · chart
+        Instance Anlage · group
+        Symbol Start · E 0.0 BOOL
+        ");
+        insta::assert_snapshot!(render(&in_path("confirm Mi$0")), @"Graph Mischer · chart");
+    }
 
     #[test]
     fn test_statements_put_cycle_and_run_first_while_they_can() {

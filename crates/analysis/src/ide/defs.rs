@@ -7,7 +7,10 @@
 //! `instance X : Graph`, both sides of actual parameters, `Inst.Msg`, `fc`/`db` names, chart
 //! operands and jump/loop targets — resolved by the rules' own resolution
 //! ([`crate::resolve`] in graphs, the actual-value resolution of groups, the chart operand
-//! resolution), with its access kind (Appendix E) and a range relative to the item. Like the
+//! resolution), with its access kind (Appendix E) and a range relative to the item. A `test`
+//! item's uses are its `run` and `command` entries and every segment of its test paths that
+//! names a declaration of another item (`UseTarget::Def`), found by the test path resolver
+//! (`lower/paths.rs`), so references, rename and hover reach into tests. Like the
 //! rules' results it is position-independent, so an edit in one item leaves the uses of the
 //! others cached, and a workspace-wide search only filters cached vectors.
 
@@ -38,6 +41,7 @@ use crate::{
 };
 
 use super::SymbolKind;
+use crate::lower::SegmentDef;
 
 // ------------------------------------------------------------------------------ public model
 
@@ -200,6 +204,9 @@ pub(crate) enum UseTarget {
     InterfaceParam { interface: ItemId, name: String },
     /// An absolute address (for hover; no definition).
     Address(Address),
+    /// A name of a test (a path segment, a `run` or `command` entry): a definition of
+    /// another item, found by the test path resolver (`lower/paths.rs`).
+    Def(Definition),
 }
 
 /// One use of a name inside an item.
@@ -242,10 +249,175 @@ pub(crate) fn item_uses<'db>(
                 walker.block_ref(&block);
             }
         }
-        // Test paths are resolved by the lowering (`lower/`), not here.
-        Some(ast::Item::Symbols(_) | ast::Item::Mnemonic(_) | ast::Item::Test(_)) | None => {}
+        Some(ast::Item::Test(test)) => walker.uses = test_uses(db, ws, item.file(db), &test),
+        Some(ast::Item::Symbols(_) | ast::Item::Mnemonic(_)) | None => {}
     }
     ItemUses { uses: walker.uses }
+}
+
+// ------------------------------------------------------------------------------ tests
+
+/// The uses of a `test` item: its `run` entries, the chart of each `command`, and every
+/// segment of its test paths that names a declaration, resolved by the test path resolver
+/// (`lower/paths.rs`, the one the lowering and HG91xx use). A `set` target is written, the
+/// last segment of another path read, the leading segments (group, instance, chart,
+/// sequencer) are named.
+fn test_uses(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    test: &ast::Test,
+) -> Vec<NameUse> {
+    let index = db::global_index(db, ws);
+    let mut uses = Vec::new();
+    let entry = |name: ast::NameRef, uses: &mut Vec<NameUse>| {
+        let Some(item) = index.item(&name.text()) else {
+            return;
+        };
+        let id = ItemId {
+            file: item.file,
+            index: item.item,
+        };
+        let definition = match item.kind {
+            ItemKind::Group => Definition::Group(id),
+            ItemKind::Chart => Definition::Chart(id),
+            _ => return,
+        };
+        uses.push(NameUse {
+            range: name.syntax().text_range(),
+            target: UseTarget::Def(definition),
+            kind: ReferenceKind::Name,
+            quoted: false,
+        });
+    };
+    for stmt in test.statements() {
+        match stmt {
+            ast::TestStmt::Run(run) => run.entries().for_each(|e| entry(e, &mut uses)),
+            ast::TestStmt::Command(command) => {
+                if let Some(chart) = command.chart() {
+                    entry(chart, &mut uses);
+                }
+            }
+            _ => {}
+        }
+    }
+    let paths = crate::lower::test_item_paths(db, ws, file, test);
+    // The workspace's files by path, built once: segments name their declarations by path.
+    let files: std::collections::HashMap<&str, File> = if paths.is_empty() {
+        std::collections::HashMap::new()
+    } else {
+        ws.files(db)
+            .iter()
+            .map(|f| (f.path(db).as_str(), *f))
+            .collect()
+    };
+    for (path, segments) in paths {
+        let written = path
+            .syntax()
+            .parent()
+            .and_then(ast::TestSet::cast)
+            .and_then(|set| set.target())
+            .is_some_and(|target| target.syntax() == path.syntax());
+        let last = segments.len().saturating_sub(1);
+        let mut previous: Option<Definition> = None;
+        for (i, (range, segment)) in segments.iter().enumerate() {
+            let definition = segment_definition(db, ws, &files, segment, previous.as_ref());
+            let kind = match (i == last, written) {
+                (false, _) => ReferenceKind::Name,
+                (true, true) => ReferenceKind::Write,
+                (true, false) => ReferenceKind::Read,
+            };
+            if let Some(definition) = &definition {
+                // A quoted first segment: the name without its quotes.
+                let text = path
+                    .syntax()
+                    .text()
+                    .slice(*range - path.syntax().text_range().start())
+                    .to_string();
+                let quoted = text.len() >= 2 && text.starts_with('"') && text.ends_with('"');
+                let range = if quoted {
+                    TextRange::new(
+                        range.start() + TextSize::from(1),
+                        range.end() - TextSize::from(1),
+                    )
+                } else {
+                    *range
+                };
+                uses.push(NameUse {
+                    range,
+                    target: UseTarget::Def(definition.clone()),
+                    kind,
+                    quoted,
+                });
+            }
+            previous = definition;
+        }
+    }
+    uses.sort_by_key(|u| u.range.start());
+    uses
+}
+
+/// The definition a test path segment names (`previous`: what the segment before names, for
+/// a predefined variable of an instance's graph). Members (`state`, `.T`, block formals) and
+/// addresses name none.
+fn segment_definition(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    files: &std::collections::HashMap<&str, File>,
+    segment: &SegmentDef,
+    previous: Option<&Definition>,
+) -> Option<Definition> {
+    let index = db::global_index(db, ws);
+    match segment {
+        SegmentDef::Symbol { name } | SegmentDef::Block { name } => {
+            index.symbol_position(name).map(Definition::Symbol)
+        }
+        SegmentDef::Predefined { name } => {
+            let Some(Definition::Instance {
+                group,
+                name: instance,
+            }) = previous
+            else {
+                return None;
+            };
+            let root = db::item_root(db, group.loc(db)).and_then(ast::Group::cast)?;
+            let node = root.instances().find(|i| {
+                i.name()
+                    .is_some_and(|n| n.text().eq_ignore_ascii_case(instance))
+            })?;
+            let graph = index.graph(&node.graph()?.text())?;
+            Some(Definition::Predefined {
+                graph: ItemId {
+                    file: graph.file,
+                    index: graph.item,
+                },
+                name,
+            })
+        }
+        SegmentDef::Group { file, range }
+        | SegmentDef::Instance { file, range }
+        | SegmentDef::GraphVariable { file, range }
+        | SegmentDef::Chart { file, range }
+        | SegmentDef::ChartVariable { file, range }
+        | SegmentDef::Sequencer { file, range }
+        | SegmentDef::Step { file, range } => {
+            // The declaration's name: what a cursor on it refers to.
+            let file = *files.get(file.as_str())?;
+            let offsets = db::item_offsets(db, file);
+            let at = offsets.partition_point(|start| *start <= range.start());
+            let item = ItemId {
+                file,
+                index: u32::try_from(at.checked_sub(1)?).ok()?,
+            };
+            let start = item_start(db, item);
+            let root = db::item_root(db, item.loc(db))?;
+            let token = root
+                .token_at_offset(range.start().checked_sub(start)?)
+                .right_biased()?;
+            declared_at(db, ws, item, &token).map(|n| n.definition)
+        }
+        SegmentDef::Address | SegmentDef::Member => None,
+    }
 }
 
 /// Walks one item, resolving names with a throw-away rule context (the diagnostics the
@@ -1044,6 +1216,7 @@ fn definition_of(db: &dyn salsa::Database, item: ItemId, target: &UseTarget) -> 
             owner: *interface,
             name: name.clone(),
         },
+        UseTarget::Def(definition) => definition.clone(),
         UseTarget::Address(_) => return None,
     })
 }
@@ -1508,7 +1681,52 @@ pub fn references(
             );
         }
     }
+    // The uses in tests name other items' definitions.
+    let wanted = folded(definition);
+    let tests = items_of_kind(db, ws, &[ItemKind::Test]);
+    scan(
+        &tests,
+        &|t| matches!(t, UseTarget::Def(d) if folded(d) == wanted),
+    );
     out
+}
+
+/// A definition with its names upper-cased (names compare without case).
+fn folded(definition: &Definition) -> Definition {
+    let up = |s: &String| s.to_ascii_uppercase();
+    match definition {
+        Definition::Variable { owner, name } => Definition::Variable {
+            owner: *owner,
+            name: up(name),
+        },
+        Definition::Instance { group, name } => Definition::Instance {
+            group: *group,
+            name: up(name),
+        },
+        Definition::Sequencer { chart, name } => Definition::Sequencer {
+            chart: *chart,
+            name: up(name),
+        },
+        Definition::Step {
+            chart,
+            sequencer,
+            name,
+        } => Definition::Step {
+            chart: *chart,
+            sequencer: up(sequencer),
+            name: up(name),
+        },
+        Definition::ChartTransition {
+            chart,
+            sequencer,
+            name,
+        } => Definition::ChartTransition {
+            chart: *chart,
+            sequencer: up(sequencer),
+            name: up(name),
+        },
+        other => other.clone(),
+    }
 }
 
 /// The name of a definition as declared (the number of a state).
@@ -1742,6 +1960,126 @@ symbols < Start : E 0.0; >
         symbols.higraph 10..15 'Start' Declaration
         chart.higraph 189..194 'Start' Read
         ");
+    }
+
+    const TESTED: &str = r#"//- plant.higraph
+graph Ventil <
+  in < Oben : BOOL; >
+  out < Auf : BOOL; >
+  activate CurrentState;
+  state 0 < C: U Oben; = Auf; >
+  trans any->0 < U INIT_SD; >
+>
+group Anlage fc FC 1 db DB 1 <
+  instance V1 : Ventil < Oben := Start; >
+>
+chart Mischer <
+  in < Freigabe : BOOL; >
+  sequencer RUN <
+    start < Freigabe; >
+    step Heizen < >
+    trans T1 < Freigabe; >
+  >
+>
+symbols < Start : E 0.0 BOOL; "Motor 1" : A 1.0 BOOL; >
+//- tests.higraph
+test T1 <
+  run Anlage, Mischer;
+  set Start := TRUE;
+  set V1.Oben := TRUE;
+  set Mischer.Freigabe := TRUE;
+  step;
+  expect Anlage.V1.Auf and V1.state = 0 and V1.ManualMode = FALSE;
+  expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+  command Mischer start;
+  confirm Mischer.Heizen;
+>
+"#;
+
+    #[test]
+    fn test_paths_refer_to_their_declarations() {
+        let var = with_cursor(TESTED, "tests.higraph", "Oben :=");
+        insta::assert_snapshot!(check(&var), @"
+        variable Oben 'Oben'
+        plant.higraph 22..26 'Oben' Declaration
+        plant.higraph 101..105 'Oben' Read
+        plant.higraph 204..208 'Oben' Name
+        tests.higraph 63..67 'Oben' Write
+        ");
+        let from_graph = with_cursor(TESTED, "plant.higraph", "Auf; >");
+        insta::assert_snapshot!(check(&from_graph), @"
+        variable Auf 'Auf'
+        plant.higraph 45..48 'Auf' Declaration
+        plant.higraph 109..112 'Auf' Write
+        tests.higraph 136..139 'Auf' Read
+        ");
+        let instance = with_cursor(TESTED, "tests.higraph", "V1.state");
+        insta::assert_snapshot!(check(&instance), @"
+        instance V1 'V1'
+        plant.higraph 190..192 'V1' Declaration
+        tests.higraph 60..62 'V1' Name
+        tests.higraph 133..135 'V1' Name
+        tests.higraph 144..146 'V1' Name
+        tests.higraph 161..163 'V1' Name
+        ");
+        let group = with_cursor(TESTED, "plant.higraph", "Anlage fc");
+        insta::assert_snapshot!(check(&group), @"
+        group 'Anlage'
+        plant.higraph 154..160 'Anlage' Declaration
+        tests.higraph 16..22 'Anlage' Name
+        tests.higraph 126..132 'Anlage' Name
+        ");
+        let chart = with_cursor(TESTED, "tests.higraph", "Mischer start");
+        insta::assert_snapshot!(check(&chart), @"
+        chart 'Mischer'
+        plant.higraph 229..236 'Mischer' Declaration
+        tests.higraph 24..31 'Mischer' Name
+        tests.higraph 83..90 'Mischer' Name
+        tests.higraph 193..200 'Mischer' Name
+        tests.higraph 246..253 'Mischer' Name
+        tests.higraph 271..278 'Mischer' Name
+        ");
+        let step = with_cursor(TESTED, "tests.higraph", "Heizen.T");
+        insta::assert_snapshot!(check(&step), @"
+        step RUN.Heizen 'Heizen'
+        plant.higraph 316..322 'Heizen' Declaration
+        tests.higraph 205..211 'Heizen' Name
+        tests.higraph 279..285 'Heizen' Read
+        ");
+        let sequencer = with_cursor(TESTED, "tests.higraph", "RUN.");
+        insta::assert_snapshot!(check(&sequencer), @"
+        sequencer RUN 'RUN'
+        plant.higraph 277..280 'RUN' Declaration
+        tests.higraph 201..204 'RUN' Name
+        ");
+        let symbol = with_cursor(TESTED, "tests.higraph", "Start :=");
+        insta::assert_snapshot!(check(&symbol), @"
+        symbol #0 'Start'
+        plant.higraph 370..375 'Start' Declaration
+        plant.higraph 212..217 'Start' Read
+        tests.higraph 39..44 'Start' Write
+        ");
+        let quoted = with_cursor(TESTED, "tests.higraph", "Motor 1\"");
+        insta::assert_snapshot!(check(&quoted), @"
+        symbol #1 'Motor 1'
+        plant.higraph 391..398 'Motor 1' Declaration
+        tests.higraph 226..233 'Motor 1' Read
+        ");
+        let chart_var = with_cursor(TESTED, "plant.higraph", "Freigabe : BOOL");
+        insta::assert_snapshot!(check(&chart_var), @"
+        variable Freigabe 'Freigabe'
+        plant.higraph 246..254 'Freigabe' Declaration
+        plant.higraph 295..303 'Freigabe' Read
+        plant.higraph 342..350 'Freigabe' Read
+        tests.higraph 91..99 'Freigabe' Write
+        ");
+        let predefined = with_cursor(TESTED, "tests.higraph", "ManualMode");
+        insta::assert_snapshot!(check(&predefined), @"
+        predefined ManualMode 'ManualMode'
+        tests.higraph 164..174 'ManualMode' Read
+        ");
+        let member = with_cursor(TESTED, "tests.higraph", "state = 0");
+        insta::assert_snapshot!(check(&member), @"nothing");
     }
 
     #[test]

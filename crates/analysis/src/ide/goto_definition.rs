@@ -94,6 +94,14 @@ chart Mischer <
     loop L -> A < TRUE; >
   >
 >
+//- t.higraph
+test T <
+  run Anlage, Mischer;
+  set V1.Oben := TRUE;
+  expect Mischer.S.A and V2.IM_Ab and Taster;
+  command Mischer start;
+  confirm Mischer.B;
+>
 "#;
 
     fn at(needle: &str, path: &str) -> String {
@@ -174,6 +182,51 @@ symbols < Dosieren : FC 10; >
             "a.higraph: 'Dosieren' in 'Dosieren : FC 10;' (Symbol)\n\
              a.higraph: '\"Dosieren\"' in 'block \"Dosieren\" < in < Menge : INT; > >' (BlockInterface)"
         );
+    }
+
+    #[test]
+    fn test_paths_and_run_entries_go_to_declarations() {
+        assert_eq!(
+            at("Anlage,", "t.higraph"),
+            "b.higraph: 'Anlage' in 'group Anlage fc FC 1 db DB 1 <\n  instance V1 : Ventil < Oben := Taster; OM_Oben := V2.IM_Ab; >\n  instance V2 : Ventil < >\n>' (Group)"
+        );
+        assert_eq!(
+            at("V1.Oben", "t.higraph"),
+            "b.higraph: 'V1' in 'instance V1 : Ventil < Oben := Taster; OM_Oben := V2.IM_Ab; >' (Instance)"
+        );
+        assert_eq!(
+            at("Oben :=", "t.higraph"),
+            "a.higraph: 'Oben' in 'Oben : BOOL;' (Variable)"
+        );
+        assert_eq!(
+            at("IM_Ab and", "t.higraph"),
+            "a.higraph: 'IM_Ab' in 'IM_Ab : BOOL msg in;' (Message)"
+        );
+        assert_eq!(
+            at("S.A", "t.higraph"),
+            "b.higraph: 'S' in 'sequencer S <\n    step A < >\n    trans T < Taster; >\n    step B < >\n    loop L -> A < TRUE; >\n  >' (Sequencer)"
+        );
+        assert_eq!(
+            at("A and", "t.higraph"),
+            "b.higraph: 'A' in 'step A < >' (Step)"
+        );
+        assert_eq!(
+            at("Taster;", "t.higraph"),
+            "b.higraph: 'Taster' in 'Taster : E 0.0 BOOL \"start\";' (Symbol)"
+        );
+        assert_eq!(
+            at("Mischer start", "t.higraph")
+                .lines()
+                .next()
+                .unwrap_or(""),
+            "b.higraph: 'Mischer' in 'chart Mischer <"
+        );
+        assert_eq!(
+            at("B;", "t.higraph"),
+            "b.higraph: 'B' in 'step B < >' (Step)"
+        );
+        // `start` is a command, no name.
+        assert_eq!(at("start;", "t.higraph"), "");
     }
 
     #[test]

@@ -81,6 +81,29 @@ mod tests {
     }
 
     #[test]
+    fn test_paths_in_their_file() {
+        let text = r#"//- plant.higraph
+graph Ventil <
+  in < Oben : BOOL; >
+  state 0 < C: U Oben; >
+  trans any->0 < U INIT_SD; >
+>
+group Anlage < instance V1 : Ventil < > >
+//- tests.higraph
+test T <
+  run Anlage;
+  set V1.$0Oben := TRUE;
+  step;
+  expect Anlage.V1.Oben;
+>
+"#;
+        insta::assert_snapshot!(check(text), @"
+        32..36 'Oben' Write
+        73..77 'Oben' Read
+        ");
+    }
+
+    #[test]
     fn reads_and_writes_in_a_graph() {
         let text = r#"
 graph G <

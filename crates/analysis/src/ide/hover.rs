@@ -6,6 +6,7 @@
 //! parts a summary; and for a code in a `// higraph-allow:` comment the rule's documentation
 //! (`docs/rules/HGnnnn.md`, embedded at build time).
 
+use higraph_runtime::program::StepMember;
 use higraph_syntax::{
     SyntaxKind, SyntaxNode, SyntaxToken, TextRange, TextSize,
     ast::{self, AstNode},
@@ -15,6 +16,7 @@ use super::{
     FilePosition,
     defs::{self, Definition, ItemId, UseTarget},
 };
+use crate::lower::{PathTarget, SegmentDef};
 use crate::{
     Analysis, Cancellable,
     address::{self, Address, Size},
@@ -55,6 +57,9 @@ fn hover(db: &dyn salsa::Database, ws: Workspace, file: File, offset: TextSize) 
             markdown: operation(&opcode.text(), mnemonic)?,
         });
     }
+    if let Some(hover) = test_path(db, ws, file, offset) {
+        return Some(hover);
+    }
     for name_use in defs::uses_at(db, ws, file, offset) {
         if let UseTarget::Address(address) = &name_use.target {
             return Some(Hover {
@@ -75,6 +80,94 @@ fn hover(db: &dyn salsa::Database, ws: Workspace, file: File, offset: TextSize) 
         range: node.syntax().text_range(),
         markdown: address_text(db, ws, &address, mnemonic),
     })
+}
+
+/// A segment of a test path: what it names (as the declaration's own hover), and on the last
+/// segment the path's type and whether a test can `set` it; members (`state`, `previous`,
+/// `.X`/`.T`/`.error`, `calls`, block formals) are described. Addresses are left to the
+/// address hover.
+fn test_path(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    offset: TextSize,
+) -> Option<Hover> {
+    let (path, _, res) = crate::lower::test_path_resolution_at(db, ws, file, offset)?;
+    let (index, (range, segment)) = res
+        .segments
+        .iter()
+        .enumerate()
+        .find(|(_, (r, _))| r.contains_inclusive(offset))?;
+    let text = path
+        .syntax()
+        .text()
+        .to_string()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    let ty = res
+        .ty
+        .map_or_else(|| "the type of its value".to_owned(), |t| t.to_string());
+    let access = match &res.settable {
+        Ok(()) => "test path · can be `set`".to_owned(),
+        Err(why) => format!("test path · read-only: {why}"),
+    };
+    let footer = format!("{}\n\n{access}", code(&format!("{text} : {ty}")));
+    match segment {
+        SegmentDef::Address => None,
+        SegmentDef::Member => {
+            let names = path.segment_texts();
+            let before = index
+                .checked_sub(1)
+                .and_then(|i| names.get(i))
+                .map_or("", |(n, _)| n.as_str());
+            let what = match &res.target {
+                PathTarget::InstState {
+                    previous: false, ..
+                } => {
+                    format!("the current state of instance `{before}` (its `CurrentState`)")
+                }
+                PathTarget::InstState { previous: true, .. } => {
+                    format!("the state instance `{before}` left at its last state change")
+                }
+                PathTarget::ChartState { .. } => {
+                    format!("the operating state of chart `{before}`; `command` changes it")
+                }
+                PathTarget::Step { member, .. } => match member {
+                    StepMember::Active => format!("step `{before}` is active"),
+                    StepMember::Time => format!("how long step `{before}` has been active"),
+                    StepMember::Error => {
+                        format!("step `{before}` is active longer than its supervision time")
+                    }
+                },
+                PathTarget::Calls { name, .. } => format!("how often block `{name}` was called"),
+                PathTarget::Stub { name, param, .. } => {
+                    let written = names.get(index).map_or(param.as_str(), |(n, _)| n.as_str());
+                    format!("formal `{written}` of block `{name}`: the value its stub returns")
+                }
+                PathTarget::External(_) => {
+                    "an external reference of a chart the test runs".to_owned()
+                }
+                _ => return None,
+            };
+            Some(Hover {
+                range: *range,
+                markdown: format!("{footer}\n\n{what}"),
+            })
+        }
+        _ => {
+            let at = defs::definition_at(db, ws, file, offset)?;
+            let mut markdown = definition(db, ws, &at.definition)?;
+            if index + 1 == res.segments.len() {
+                markdown.push_str("\n\n---\n\n");
+                markdown.push_str(&footer);
+            }
+            Some(Hover {
+                range: at.range,
+                markdown,
+            })
+        }
+    }
 }
 
 /// A fenced code block of HiGraph text.
@@ -956,6 +1049,177 @@ group Anlage fc FC 1 db DB 1 < instance V1 : Ventil "first" < Oben := Start; > >
 
     fn at(needle: &str) -> String {
         check(&GRAPH.replacen(needle, &format!("$0{needle}"), 1))
+    }
+
+    const TESTED: &str = r#"//- plant.higraph
+graph Ventil <
+  in < Oben : BOOL "drill at top"; >
+  out < Auf : BOOL; >
+  state 0 < C: U Oben; = Auf; >
+  trans any->0 < U INIT_SD; >
+>
+group Anlage fc FC 1 db DB 1 <
+  instance V1 : Ventil < Oben := Start; >
+>
+chart Mischer <
+  in < Freigabe : BOOL; >
+  sequencer RUN <
+    start < Freigabe; >
+    step Heizen < >
+    trans T1 < Freigabe; >
+  >
+>
+symbols < Start : E 0.0 BOOL; Dosieren : FC 10; >
+block Dosieren < out < Menge : INT; > >
+//- tests.higraph
+test T1 <
+  run Anlage, Mischer;
+  set V1.Oben := TRUE;
+  expect V1.state = 0 and V1.previous = 0 and V1.ManualMode;
+  expect Mischer.RUN.Heizen.T > T#0S and Mischer.Heizen.error and Mischer.state = Ready;
+  expect Dosieren.calls = 0 and Dosieren.Menge = 0 and MW 10 = 0;
+>
+"#;
+
+    fn in_test(needle: &str) -> String {
+        let marker = "//- tests.higraph\n";
+        let start = TESTED.find(marker).map_or(0, |i| i + marker.len());
+        let at = TESTED[start..].find(needle).map_or(start, |i| start + i);
+        check(&format!("{}$0{}", &TESTED[..at], &TESTED[at..]))
+    }
+
+    #[test]
+    fn test_path_segments() {
+        insta::assert_snapshot!(in_test("Oben :="), @"
+        [Oben]
+        ```higraph
+        Oben : BOOL
+        ```
+
+        `in` variable of graph `Ventil` · formal parameter
+
+        drill at top
+
+        ---
+
+        ```higraph
+        V1.Oben : BOOL
+        ```
+
+        test path · can be `set`
+        ");
+        insta::assert_snapshot!(in_test("V1.Oben"), @"
+        [V1]
+        ```higraph
+        instance V1 : Ventil
+        ```
+
+        instance of graph `Ventil` · number 1 in the run order of group `Anlage`
+        ");
+        insta::assert_snapshot!(in_test("state = 0"), @"
+        [state]
+        ```higraph
+        V1.state : WORD
+        ```
+
+        test path · read-only: V1.state is kept by the instance
+
+        the current state of instance `V1` (its `CurrentState`)
+        ");
+        insta::assert_snapshot!(in_test("previous"), @"
+        [previous]
+        ```higraph
+        V1.previous : WORD
+        ```
+
+        test path · read-only: V1.previous is kept by the instance
+
+        the state instance `V1` left at its last state change
+        ");
+        insta::assert_snapshot!(in_test("ManualMode"), @"
+        [ManualMode]
+        ```higraph
+        ManualMode : BOOL
+        ```
+
+        predefined `in` variable of every graph · the graph may write it · always active
+
+        manual operating mode: transitions marked 'manual' fire only while it is 1
+
+        ---
+
+        ```higraph
+        V1.ManualMode : BOOL
+        ```
+
+        test path · can be `set`
+        ");
+        insta::assert_snapshot!(in_test("T > T#0S"), @"
+        [T]
+        ```higraph
+        Mischer.RUN.Heizen.T : TIME
+        ```
+
+        test path · read-only: Mischer.RUN.Heizen.T is kept by the chart
+
+        how long step `Heizen` has been active
+        ");
+        insta::assert_snapshot!(in_test("error"), @"
+        [error]
+        ```higraph
+        Mischer.Heizen.error : BOOL
+        ```
+
+        test path · read-only: Mischer.Heizen.error is kept by the chart
+
+        step `Heizen` is active longer than its supervision time
+        ");
+        insta::assert_snapshot!(in_test("state = Ready"), @"
+        [state]
+        ```higraph
+        Mischer.state : operating state
+        ```
+
+        test path · read-only: Mischer.state changes by commands
+
+        the operating state of chart `Mischer`; `command` changes it
+        ");
+        insta::assert_snapshot!(in_test("Heizen.T"), @"
+        [Heizen]
+        ```higraph
+        step Heizen
+        ```
+
+        step of sequencer `RUN`
+        ");
+        insta::assert_snapshot!(in_test("calls"), @"
+        [calls]
+        ```higraph
+        Dosieren.calls : DINT
+        ```
+
+        test path · read-only: Dosieren.calls counts the calls
+
+        how often block `Dosieren` was called
+        ");
+        insta::assert_snapshot!(in_test("Menge"), @"
+        [Menge]
+        ```higraph
+        Dosieren.Menge : INT
+        ```
+
+        test path · can be `set`
+
+        formal `Menge` of block `Dosieren`: the value its stub returns
+        ");
+        insta::assert_snapshot!(in_test("MW 10"), @"
+        [MW 10]
+        ```higraph
+        MW 10
+        ```
+
+        memory word · WORD
+        ");
     }
 
     #[test]

@@ -212,6 +212,7 @@ pub(crate) fn rename(
     let new_text = rules.validate(db, ws, new_name, &references)?;
     if !new_text.eq_ignore_ascii_case(&old_name) {
         check_free(db, ws, definition, &new_text)?;
+        test_paths_keep_meaning(db, ws, definition, &new_text, &references)?;
     }
     let mut change = SourceChange::default();
     let mut quoting = Quoting::default();
@@ -521,6 +522,111 @@ fn check_free(
     }
 }
 
+/// A name that test paths use must keep what they mean: a path's first name is read as a
+/// chart, a group, then an instance, and inside a chart `state`, a variable, a sequencer, then
+/// a step (`runtime.md` §5.3), so a new name that another of those already has would change
+/// or break the paths.
+fn test_paths_keep_meaning(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    definition: &Definition,
+    new_name: &str,
+    references: &[Reference],
+) -> Result<(), String> {
+    let in_tests = references.iter().any(|r| {
+        item_at(db, r.file, r.range).and_then(|i| defs::item_kind(db, i)) == Some(ItemKind::Test)
+    });
+    if !in_tests {
+        return Ok(());
+    }
+    let same = |a: &str| a.eq_ignore_ascii_case(new_name);
+    let refuse = |why: String| Err(format!("test paths use this name, and {why}"));
+    let instance_elsewhere = || {
+        defs::items_of_kind(db, ws, &[ItemKind::Group])
+            .into_iter()
+            .filter_map(|g| db::item_root(db, defs::item_loc(db, g)).and_then(ast::Group::cast))
+            .any(|g| {
+                g.instances()
+                    .filter_map(|i| i.name())
+                    .any(|n| same(&n.text()))
+            })
+    };
+    let chart_node =
+        |chart: &ItemId| db::item_root(db, defs::item_loc(db, *chart)).and_then(ast::Chart::cast);
+    let step_named = |chart: &ast::Chart| {
+        chart
+            .syntax()
+            .descendants()
+            .filter_map(ast::Step::cast)
+            .filter_map(|s| s.name())
+            .any(|n| same(&n.text()))
+    };
+    let sequencer_named = |chart: &ast::Chart| {
+        chart
+            .sequencers()
+            .filter_map(|s| s.name())
+            .any(|n| same(&n.text()))
+    };
+    match definition {
+        Definition::Instance { .. } => {
+            let index = db::global_index(db, ws);
+            if let Some(item) = index.item(new_name)
+                && matches!(item.kind, ItemKind::Group | ItemKind::Chart)
+            {
+                return refuse(format!("a path starting with '{new_name}' names that item"));
+            }
+            if instance_elsewhere() {
+                return refuse(format!(
+                    "another instance is named '{new_name}': its paths would be ambiguous"
+                ));
+            }
+            Ok(())
+        }
+        Definition::Group(_) | Definition::Chart(_) if instance_elsewhere() => refuse(format!(
+            "an instance is named '{new_name}': its paths would name this item"
+        )),
+        Definition::Variable { owner, .. } => match defs::item_kind(db, *owner) {
+            Some(ItemKind::Graph) if same("state") || same("previous") => {
+                refuse(format!("'Inst.{new_name}' is the instance's state"))
+            }
+            Some(ItemKind::Chart) => {
+                let chart = chart_node(owner);
+                if same("state") || chart.as_ref().is_some_and(step_named) {
+                    refuse(format!(
+                        "'Chart.{new_name}' names a step or the chart's state"
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+            _ => Ok(()),
+        },
+        Definition::Step { chart, .. } => {
+            let node = chart_node(chart);
+            let taken = same("state")
+                || defs::var_decl(db, *chart, new_name).is_some()
+                || node
+                    .as_ref()
+                    .is_some_and(|c| sequencer_named(c) || step_named(c));
+            if taken {
+                refuse(format!(
+                    "'{new_name}' is a variable, sequencer, step or the state of the chart"
+                ))
+            } else {
+                Ok(())
+            }
+        }
+        Definition::Sequencer { chart, .. } => {
+            if chart_node(chart).as_ref().is_some_and(step_named) {
+                refuse(format!("the chart has a step '{new_name}'"))
+            } else {
+                Ok(())
+            }
+        }
+        _ => Ok(()),
+    }
+}
+
 /// HG1301 / HG6003: a top-level name (graph, group, chart, symbol) must stay unique.
 fn top_level_free(
     db: &dyn salsa::Database,
@@ -625,12 +731,36 @@ impl Quoting {
         let Some(item) = item_at(db, reference.file, reference.range) else {
             return true;
         };
+        if defs::item_kind(db, item) == Some(ItemKind::Test) {
+            // A path's first name is read as a chart, group or instance before a block
+            // (`Sym.calls`); quoted it stays the symbol.
+            return !names_chart_group_or_instance(db, ws, new_name);
+        }
         let captured = *self
             .captured
             .entry(item)
             .or_insert_with(|| has_variable(db, item, new_name));
         !captured
     }
+}
+
+/// Does `name` name a group or chart item, or an instance of a group?
+fn names_chart_group_or_instance(db: &dyn salsa::Database, ws: Workspace, name: &str) -> bool {
+    let index = db::global_index(db, ws);
+    if index
+        .item(name)
+        .is_some_and(|i| matches!(i.kind, ItemKind::Group | ItemKind::Chart))
+    {
+        return true;
+    }
+    defs::items_of_kind(db, ws, &[ItemKind::Group])
+        .into_iter()
+        .filter_map(|g| db::item_root(db, defs::item_loc(db, g)).and_then(ast::Group::cast))
+        .any(|g| {
+            g.instances()
+                .filter_map(|i| i.name())
+                .any(|n| n.text().eq_ignore_ascii_case(name))
+        })
 }
 
 /// The item of `file` that holds `range`.
@@ -808,6 +938,242 @@ symbols <
           instance V2 : Ventil < Oben_Pos := "Start"; Zeit := T#5S; Auf := A 1.1; OM_Oben := V1.IM_Ab; >
         >
         "#);
+    }
+
+    const TESTED: &str = r#"//- plant.higraph
+graph Ventil <
+  in < Oben : BOOL; >
+  out < Auf : BOOL; >
+  state 0 < C: U Oben; = Auf; >
+  trans any->0 < U INIT_SD; >
+>
+group Anlage fc FC 1 db DB 1 <
+  instance V1 : Ventil < Oben := Start; >
+>
+chart Mischer <
+  in < Freigabe : BOOL; >
+  sequencer RUN <
+    start < Freigabe; >
+    step Heizen < >
+    trans T1 < Freigabe; >
+  >
+>
+symbols < Start : E 0.0 BOOL; "Motor 1" : A 1.0 BOOL; >
+//- tests.higraph
+test T1 <
+  run Anlage, Mischer;
+  set Start := TRUE;
+  set V1.Oben := TRUE;
+  set Mischer.Freigabe := TRUE;
+  step;
+  expect Anlage.V1.Auf and V1.state = 0;
+  expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+  command Mischer start;
+  confirm Mischer.Heizen;
+>
+"#;
+
+    /// Renames at the cursor; renders the changed files' names and the test file, and checks
+    /// that the diagnostics stay the same.
+    fn check_tests(fixture_text: &str, new_name: &str) -> String {
+        let f = fixture::load(fixture_text);
+        let analysis = f.host.analysis();
+        let change = match analysis.rename(&f.position, new_name) {
+            Ok(Ok(change)) => change,
+            Ok(Err(message)) => return format!("refused: {message}"),
+            Err(_) => return "cancelled".to_owned(),
+        };
+        let after = apply(&f.files, &change);
+        assert_eq!(codes(&f.files), codes(&after), "renaming to {new_name}");
+        let changed: Vec<String> = change.files.iter().map(|(p, _)| p.clone()).collect();
+        let tests = after
+            .iter()
+            .find(|(p, _)| p == "tests.higraph")
+            .map(|(_, t)| t.clone())
+            .unwrap_or_default();
+        format!("changed: {}\n{tests}", changed.join(", "))
+    }
+
+    #[test]
+    fn renames_reach_into_test_paths() {
+        let group = cursor(TESTED, "tests.higraph", "Anlage,");
+        insta::assert_snapshot!(check_tests(&group, "Werk"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Werk, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Werk.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let chart = cursor(TESTED, "plant.higraph", "Mischer <");
+        insta::assert_snapshot!(check_tests(&chart, "Ruehrer"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Ruehrer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Ruehrer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Ruehrer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Ruehrer start;
+          confirm Ruehrer.Heizen;
+        >
+        "#);
+        let instance = cursor(TESTED, "tests.higraph", "V1.state");
+        insta::assert_snapshot!(check_tests(&instance, "Ventil_1"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set Ventil_1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.Ventil_1.Auf and Ventil_1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let variable = cursor(TESTED, "tests.higraph", "Auf and");
+        insta::assert_snapshot!(check_tests(&variable, "Offen"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Offen and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let step = cursor(TESTED, "plant.higraph", "Heizen <");
+        insta::assert_snapshot!(check_tests(&step, "Waermen"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Waermen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Waermen;
+        >
+        "#);
+        let chart_var = cursor(TESTED, "tests.higraph", "Freigabe :=");
+        insta::assert_snapshot!(check_tests(&chart_var, "Erlaubt"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Erlaubt := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let symbol = cursor(TESTED, "tests.higraph", "Start :=");
+        insta::assert_snapshot!(check_tests(&symbol, "Los"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Los := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let quoted = cursor(TESTED, "plant.higraph", "Motor 1");
+        insta::assert_snapshot!(check_tests(&quoted, "Motor 2"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.RUN.Heizen.T > T#0S and "Motor 2";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+        let sequencer = cursor(TESTED, "tests.higraph", "RUN.");
+        insta::assert_snapshot!(check_tests(&sequencer, "Ablauf"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T1 <
+          run Anlage, Mischer;
+          set Start := TRUE;
+          set V1.Oben := TRUE;
+          set Mischer.Freigabe := TRUE;
+          step;
+          expect Anlage.V1.Auf and V1.state = 0;
+          expect Mischer.Ablauf.Heizen.T > T#0S and "Motor 1";
+          command Mischer start;
+          confirm Mischer.Heizen;
+        >
+        "#);
+    }
+
+    #[test]
+    fn renames_that_would_change_test_paths_are_refused() {
+        let instance = cursor(TESTED, "tests.higraph", "V1.state");
+        insta::assert_snapshot!(refused(&instance, "Mischer"), @"test paths use this name, and a path starting with 'Mischer' names that item");
+        let chart_var = cursor(TESTED, "tests.higraph", "Freigabe :=");
+        insta::assert_snapshot!(refused(&chart_var, "Heizen"), @"test paths use this name, and 'Chart.Heizen' names a step or the chart's state");
+        let step = cursor(TESTED, "plant.higraph", "Heizen <");
+        insta::assert_snapshot!(refused(&step, "Freigabe"), @"test paths use this name, and 'Freigabe' is a variable, sequencer, step or the state of the chart");
+        insta::assert_snapshot!(refused(&step, "RUN"), @"test paths use this name, and 'RUN' is a variable, sequencer, step or the state of the chart");
+        let variable = cursor(TESTED, "tests.higraph", "Auf and");
+        insta::assert_snapshot!(refused(&variable, "previous"), @"test paths use this name, and 'Inst.previous' is the instance's state");
+        let chart = cursor(TESTED, "plant.higraph", "Mischer <");
+        insta::assert_snapshot!(refused(&chart, "V1"), @"test paths use this name, and an instance is named 'V1': its paths would name this item");
+    }
+
+    #[test]
+    fn symbols_in_test_paths_are_quoted_where_a_run_name_would_capture_them() {
+        let text = r#"//- plant.higraph
+graph Ventil < state 0 < > trans any->0 < U INIT_SD; > >
+group Anlage < instance V1 : Ventil < > >
+symbols < Dosieren : FC 10; >
+//- tests.higraph
+test T <
+  run Anlage;
+  expect $0Dosieren.calls = 0;
+>
+"#;
+        insta::assert_snapshot!(check_tests(text, "V1"), @r#"
+        changed: plant.higraph, tests.higraph
+        test T <
+          run Anlage;
+          expect "V1".calls = 0;
+        >
+        "#);
+        insta::assert_snapshot!(check_tests(text, "Zuteilen"), @"
+        changed: plant.higraph, tests.higraph
+        test T <
+          run Anlage;
+          expect Zuteilen.calls = 0;
+        >
+        ");
     }
 
     #[test]

@@ -37,6 +37,7 @@ mod values;
 
 pub use build::dump;
 pub use paths::SegmentDef;
+pub(crate) use paths::{PathTarget, Resolution, RunScope, ScopeChart, block_key, run_list};
 
 /// A `test` item of the workspace.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -204,6 +205,57 @@ impl Analysis {
             out
         })
     }
+}
+
+/// Every test path of a test item with what its segments name (ranges in `test`'s own
+/// coordinates; paths that do not resolve have no segments): what the editor's per-item uses
+/// (`ide/defs.rs`) record of a test.
+pub(crate) fn test_item_paths(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    test: &ast::Test,
+) -> Vec<(ast::TestPath, Vec<(TextRange, SegmentDef)>)> {
+    with_resolver(db, ws, file, test, |r| {
+        test.syntax()
+            .descendants()
+            .filter_map(ast::TestPath::cast)
+            .map(|path| {
+                let segments = r.resolve(&path).map(|res| res.segments).unwrap_or_default();
+                (path, segments)
+            })
+            .collect()
+    })
+}
+
+/// The test path at `offset` of `file` and its resolution, segment ranges made absolute (for
+/// hover); `None` outside test paths and for paths that do not resolve.
+pub(crate) fn test_path_resolution_at(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    offset: TextSize,
+) -> Option<(ast::TestPath, TextRange, Resolution)> {
+    let offsets = db::item_offsets(db, file);
+    for (i, test) in file_tests(db, file) {
+        let start = offsets.get(i as usize).copied().unwrap_or_default();
+        if !TextRange::at(start, test.syntax().text_range().len()).contains_inclusive(offset) {
+            continue;
+        }
+        let local = offset - start;
+        let path = test
+            .syntax()
+            .descendants()
+            .filter_map(ast::TestPath::cast)
+            .find(|p| p.syntax().text_range().contains_inclusive(local))?;
+        let mut res = with_resolver(db, ws, file, &test, |r| r.resolve(&path)).ok()?;
+        for (range, _) in &mut res.segments {
+            *range += start;
+        }
+        let whole = path.syntax().text_range() + start;
+        return Some((path, whole, res));
+    }
+    None
 }
 
 fn not_found(name: &str, path: &str) -> Diagnostic {
