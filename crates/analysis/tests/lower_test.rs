@@ -392,3 +392,116 @@ test E5 <
     );
     assert_eq!(run(&host, "main.higraph", "E5"), Vec::<String>::new());
 }
+
+/// `runtime.md` §9.3 E6: a parallel branch and the `L` qualifier, passes.
+#[test]
+fn the_parallel_chart_passes() {
+    let host = host(
+        r#"symbols < P_Start : M 30.0; P_Fertig : M 30.1; P_Ende : M 30.2; Pumpe : A 2.0; Mixer : A 2.1; >
+chart Par <
+  sequencer RUN <
+    start < SFC.RUN; >
+    step S1 < >
+    trans T1 < P_Start; >
+    parallel <
+      branch < step A < L Pumpe, T#30MS; > trans TA < P_Fertig; > step A2 < > >
+      branch < step B < N Mixer; > >
+    >
+    trans T2 < P_Ende; >
+    step S9 < >
+  >
+>
+test E6 <
+  command Par start;
+  set P_Start := TRUE;
+  step;
+  expect Par.state = Active and Par.S1 and not Pumpe and not Mixer;
+  step;
+  expect Par.A and Par.B and not Par.S1 and Pumpe and Mixer;
+  step 2;
+  expect Par.A and Par.B and Pumpe and Mixer;
+  step;
+  expect Par.A and Par.B and not Pumpe and Mixer;
+  set P_Fertig := TRUE;
+  step;
+  expect Par.A2 and Par.B and not Pumpe and Mixer;
+  set P_Ende := TRUE;
+  step;
+  expect Par.S9 and not Par.A2 and not Par.B and not Pumpe and not Mixer;
+  step 2;
+  expect not Par.S9 and Par.state = Active;
+  step;
+  expect Par.state = Completed;
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "E6"), Vec::<String>::new());
+}
+
+/// An `alt`, a `jump` and a `loop`: decision candidates and targets as §4.5 orders them.
+#[test]
+fn alt_jump_and_loop_pass() {
+    let host = host(
+        r#"chart J <
+  in < Xa : BOOL; Ya : BOOL; Za : BOOL; >
+  sequencer Seq <
+    start < SFC.RUN; >
+    step A < >
+    jump J1->C < Za; >
+    alt <
+      branch < trans TX < Xa; > step B < > trans TB < TRUE; > >
+      branch < trans TY < Ya; > >
+    >
+    step C < >
+    loop L1->A < Xa; >
+    trans TC < Ya; >
+    step E < >
+  >
+>
+test Wege <
+  command J start;
+  step;
+  expect J.A;
+  set J.Xa := TRUE;
+  step;
+  expect J.B and not J.A;
+  step;
+  expect J.C;
+  step;
+  expect J.A and not J.C "the loop fires after TC did not";
+  set J.Xa := FALSE;
+  set J.Za := TRUE;
+  step;
+  expect J.C and not J.A "the jump";
+  set J.Za := FALSE;
+  set J.Ya := TRUE;
+  step;
+  expect J.E and not J.C;
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "Wege"), Vec::<String>::new());
+}
+
+/// `CALL` stubs (§3.11): a test sets `Block.Param`, the call writes it to its actual, and
+/// `Block.calls` counts; a symbol and the block's address name the same block.
+#[test]
+fn call_stubs_pass() {
+    let host = host(
+        r#"symbols < Dosieren : FC 10; Fertig_Bit : M 1.0; >
+block Dosieren < in < Menge : INT; > out < Fertig : BOOL; Rest : INT; > >
+graph G <
+  state 0 < C: CALL Dosieren (Menge := 5, Fertig := Fertig_Bit, Rest := MW 4); >
+  trans any->0 < U INIT_SD; >
+>
+group Gr fc FC 1 db DB 1 < instance I : G < > >
+test Stubs <
+  set Dosieren.Fertig := TRUE;
+  set FC10.Rest := 42;
+  step 2;
+  expect Fertig_Bit and MW 4 = 42 and Dosieren.calls = 2 and FC10.calls = 2;
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "Stubs"), Vec::<String>::new());
+}
