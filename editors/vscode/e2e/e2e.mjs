@@ -217,6 +217,20 @@ try {
   }, { tries: 40 });
   check(!!played, `"HiGraph: Play Test Trace" highlights the group's instance cycle by cycle (${played ?? 'nothing highlighted'})`);
   await shot('7-trace-player');
+
+  // (9) clicking the lens of Falsch runs it through the Testing view: the test fails there,
+  // and HG9901 is published at its `expect` (a squiggle in the editor)
+  await open('tests.higraph');
+  const lens = page.locator('.codelens-decoration a', { hasText: 'Run test' }).nth(1);
+  await lens.click({ timeout: 10_000 }).catch(() => {});
+  const failedRow = await poll(async () => {
+    const row = rows.filter({ hasText: 'Falsch' }).first();
+    return (await row.locator('.codicon-testing-failed-icon').count()) > 0;
+  }, { tries: 40 });
+  check(!!failedRow, 'the lens ran Falsch through the Testing view, where it failed');
+  const squiggle = await poll(async () => (await page.locator('.editor-instance .squiggly-error').count()) > 0, { tries: 40 });
+  check(!!squiggle, 'the failure (HG9901) is shown at the expect in the editor');
+  await shot('8-failed-test');
 } catch (err) {
   failures.push(String(err));
   console.error('FAIL', err);
