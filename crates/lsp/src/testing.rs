@@ -6,7 +6,7 @@
 //! its [`TestResult`] holds the failures as [`Diagnostic`]s placed in files (HG9901–HG9904),
 //! so they render like any other diagnostic. [`Positions`] converts ranges to the JSON
 //! positions of `diagnostics.md` §4.1 (0-based lines, UTF-16 columns); [`test_json`] builds a
-//! test object of `--format json` and [`trace_text`] the JSON trace; [`vcd`] the VCD file.
+//! test object of `--format json` and [`write_trace`] the JSON trace; [`vcd`] the VCD file.
 //!
 //! Decisions: a test's `range` in the JSON outputs is the range of its name (where HG9904
 //! points and the code lens sits); an HG9904 failure has cycle 0, time 0 and no values.
@@ -262,13 +262,12 @@ pub(crate) struct OutputJson {
     pub summary: SummaryJson,
 }
 
-/// The JSON trace of §7 (also the result of `higraph/simulate`) as text, members in the
-/// order of §7, pretty-printed with two-space indentation and a final line break.
-pub(crate) fn trace_text(trace: &Trace) -> String {
-    // Serialising these plain structs cannot fail.
-    let mut text = serde_json::to_string_pretty(trace).unwrap_or_default();
-    text.push('\n');
-    text
+/// The JSON trace of §7 (also the result of `higraph/simulate`), members in the order of §7,
+/// pretty-printed with two-space indentation and a final line break, written to `out` as it
+/// is serialised.
+pub(crate) fn write_trace(out: &mut impl std::io::Write, trace: &Trace) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *out, trace)?;
+    out.write_all(b"\n")
 }
 
 /// The VCD file of a run with a trace.
