@@ -106,12 +106,13 @@ pub(crate) fn run_test(
         .iter()
         .map(|failure| {
             let (file, range) = place(failure.origin);
-            let mut diagnostic = Diagnostic::new(
-                Code::new(failure.code),
-                Severity::Error,
-                range,
-                failure.message.clone(),
-            );
+            let message = if failure.code == "HG9902" {
+                as_written(analysis, &file, range, &failure.message)
+            } else {
+                failure.message.clone()
+            };
+            let mut diagnostic =
+                Diagnostic::new(Code::new(failure.code), Severity::Error, range, message);
             if failure.code == "HG9903"
                 && failure.origin != failure.statement
                 && failure.statement != Origin::NONE
@@ -159,6 +160,27 @@ pub(crate) fn run_test(
     }
     result.wall = started.elapsed();
     Ok(Some(result))
+}
+
+/// HG9902's `'{expr}'` as the user wrote it: the runner prints the lowered expression back
+/// (addresses without spaces, constants in decimal); here the text of the expression's range,
+/// white space (line breaks included) collapsed to single spaces, takes its place.
+fn as_written(analysis: &Analysis, file: &str, range: TextRange, message: &str) -> String {
+    const REST: &str = "' did not hold within ";
+    let Some(end) = message.find(REST).filter(|_| message.starts_with('\'')) else {
+        return message.to_string();
+    };
+    let Some(contents) = analysis.file_contents(file) else {
+        return message.to_string();
+    };
+    let Some(text) = contents.text().get(std::ops::Range::<usize>::from(range)) else {
+        return message.to_string();
+    };
+    let written = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    if written.is_empty() {
+        return message.to_string();
+    }
+    format!("'{written}{}", &message[end..])
 }
 
 /// Converts byte ranges of workspace files to JSON ranges (`diagnostics.md` §4.1), one line
