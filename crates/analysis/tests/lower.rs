@@ -244,3 +244,36 @@ fn lowering_time_grows_linearly() {
         );
     }
 }
+
+/// Every rule fixture (broken input of every kind) lowers without a panic: the workspace, and
+/// each of its tests (to a program or to HG9904).
+#[test]
+fn every_rule_fixture_lowers() {
+    let root = format!("{}/test_data/rules", env!("CARGO_MANIFEST_DIR"));
+    let mut dirs: Vec<_> = std::fs::read_dir(&root)
+        .expect("fixtures")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    dirs.sort();
+    let mut count = 0;
+    for dir in dirs {
+        let mut files: Vec<_> = std::fs::read_dir(&dir)
+            .expect("fixture directory")
+            .map(|e| e.expect("entry").path())
+            .collect();
+        files.sort();
+        for file in files {
+            let bytes = std::fs::read(&file).expect("fixture");
+            let host = load_fixture(&fixture_files(&bytes));
+            let analysis = host.analysis();
+            let _ = analysis.lower_workspace().expect("not cancelled");
+            for test in analysis.tests().expect("not cancelled") {
+                let _ = analysis
+                    .lower_test(&test.path, &test.name)
+                    .expect("not cancelled");
+                count += 1;
+            }
+        }
+    }
+    assert!(count > 20, "only {count} tests lowered");
+}

@@ -227,6 +227,7 @@ fn with_resolver<T>(
     let scope = paths::RunScope::build(db, ws, &run);
     let resolver = paths::Resolver {
         db,
+        ws,
         index: db::global_index(db, ws),
         mnemonic: db::file_mnemonic(db, ws, file),
         scope: &scope,
@@ -270,6 +271,7 @@ fn lower_test(
     let scope = paths::RunScope::build(db, ws, &run);
     let resolver = paths::Resolver {
         db,
+        ws,
         index: db::global_index(db, ws),
         mnemonic: db::file_mnemonic(db, ws, file),
         scope: &scope,

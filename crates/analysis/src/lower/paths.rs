@@ -348,6 +348,7 @@ pub(crate) fn chart_scope(chart: &ast::Chart, file: File, item: u32) -> ScopeCha
 /// The resolution context: the workspace's names and the test's run scope.
 pub(crate) struct Resolver<'a> {
     pub db: &'a dyn salsa::Database,
+    pub ws: Workspace,
     pub index: &'a GlobalIndex,
     pub mnemonic: Mnemonic,
     pub scope: &'a RunScope,
@@ -366,6 +367,28 @@ impl Resolver<'_> {
 
     fn graph_scope(&self, graph: (File, u32)) -> Option<&crate::resolve::GraphScope> {
         db::graph_scope(self.db, ItemLoc::new(self.db, graph.0, graph.1)).as_ref()
+    }
+
+    /// The name as declared that a segment's definition points at (for HG1104).
+    pub fn declared_name(&self, def: &SegmentDef) -> Option<String> {
+        match def {
+            SegmentDef::Symbol { name } => Some(name.clone()),
+            SegmentDef::Predefined { name } => Some((*name).to_owned()),
+            SegmentDef::Group { file, range }
+            | SegmentDef::Instance { file, range }
+            | SegmentDef::GraphVariable { file, range }
+            | SegmentDef::Chart { file, range }
+            | SegmentDef::ChartVariable { file, range }
+            | SegmentDef::Sequencer { file, range }
+            | SegmentDef::Step { file, range } => {
+                let table = crate::check::output_file_table(self.db, self.ws);
+                let file = table.source_paths.get(file)?;
+                let text = file.contents(self.db).text();
+                text.get(usize::from(range.start())..usize::from(range.end()))
+                    .map(str::to_owned)
+            }
+            SegmentDef::Address | SegmentDef::Block { .. } | SegmentDef::Member => None,
+        }
     }
 
     /// Resolves a test path.

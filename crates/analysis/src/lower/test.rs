@@ -184,6 +184,9 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
                 {
                     self.used_symbols.push(symbol.name.clone());
                 }
+                if self.placer.is_none() && path.symbol().is_none() {
+                    self.case_hints(path, &resolution);
+                }
                 if let Some((block, param, range)) = &resolution.not_an_output {
                     let diag = Diag::new(
                         "HG9111",
@@ -197,6 +200,28 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             Err(error) => {
                 self.path_error(error, path.syntax().text_range());
                 None
+            }
+        }
+    }
+
+    /// HG1104: a segment whose letter case differs from its declaration.
+    fn case_hints(&mut self, path: &ast::TestPath, resolution: &Resolution) {
+        let written = path.segment_texts();
+        for (range, def) in &resolution.segments {
+            let Some((used, _)) = written.iter().find(|(_, r)| r == range) else {
+                continue;
+            };
+            let Some(declared) = self.r.declared_name(def) else {
+                continue;
+            };
+            if *used != declared && used.eq_ignore_ascii_case(&declared) {
+                let diag = Diag::new(
+                    "HG1104",
+                    self.loc(*range),
+                    format!("'{used}' is declared as '{declared}'"),
+                )
+                .fix(format!("Replace with '{declared}'"), self.loc(*range), declared);
+                self.diags.push(diag);
             }
         }
     }
