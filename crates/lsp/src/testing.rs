@@ -6,7 +6,7 @@
 //! its [`TestResult`] holds the failures as [`Diagnostic`]s placed in files (HG9901–HG9904),
 //! so they render like any other diagnostic. [`Positions`] converts ranges to the JSON
 //! positions of `diagnostics.md` §4.1 (0-based lines, UTF-16 columns); [`test_json`] builds a
-//! test object of `--format json` and [`trace_text`] the JSON trace; [`vcd`] the VCD file.
+//! test object of `--format json` and [`write_trace`] the JSON trace; [`vcd`] the VCD file.
 //!
 //! Decisions: a test's `range` in the JSON outputs is the range of its name (where HG9904
 //! points and the code lens sits); an HG9904 failure has cycle 0, time 0 and no values.
@@ -106,12 +106,13 @@ pub(crate) fn run_test(
         .iter()
         .map(|failure| {
             let (file, range) = place(failure.origin);
-            let mut diagnostic = Diagnostic::new(
-                Code::new(failure.code),
-                Severity::Error,
-                range,
-                failure.message.clone(),
-            );
+            let message = if failure.code == "HG9902" {
+                as_written(analysis, &file, range, &failure.message)
+            } else {
+                failure.message.clone()
+            };
+            let mut diagnostic =
+                Diagnostic::new(Code::new(failure.code), Severity::Error, range, message);
             if failure.code == "HG9903"
                 && failure.origin != failure.statement
                 && failure.statement != Origin::NONE
@@ -159,6 +160,27 @@ pub(crate) fn run_test(
     }
     result.wall = started.elapsed();
     Ok(Some(result))
+}
+
+/// HG9902's `'{expr}'` as the user wrote it: the runner prints the lowered expression back
+/// (addresses without spaces, constants in decimal); here the text of the expression's range,
+/// white space (line breaks included) collapsed to single spaces, takes its place.
+fn as_written(analysis: &Analysis, file: &str, range: TextRange, message: &str) -> String {
+    const REST: &str = "' did not hold within ";
+    let Some(end) = message.find(REST).filter(|_| message.starts_with('\'')) else {
+        return message.to_string();
+    };
+    let Some(contents) = analysis.file_contents(file) else {
+        return message.to_string();
+    };
+    let Some(text) = contents.text().get(std::ops::Range::<usize>::from(range)) else {
+        return message.to_string();
+    };
+    let written = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    if written.is_empty() {
+        return message.to_string();
+    }
+    format!("'{written}{}", &message[end..])
 }
 
 /// Converts byte ranges of workspace files to JSON ranges (`diagnostics.md` §4.1), one line
@@ -262,13 +284,12 @@ pub(crate) struct OutputJson {
     pub summary: SummaryJson,
 }
 
-/// The JSON trace of §7 (also the result of `higraph/simulate`) as text, members in the
-/// order of §7, pretty-printed with two-space indentation and a final line break.
-pub(crate) fn trace_text(trace: &Trace) -> String {
-    // Serialising these plain structs cannot fail.
-    let mut text = serde_json::to_string_pretty(trace).unwrap_or_default();
-    text.push('\n');
-    text
+/// The JSON trace of §7 (also the result of `higraph/simulate`), members in the order of §7,
+/// pretty-printed with two-space indentation and a final line break, written to `out` as it
+/// is serialised.
+pub(crate) fn write_trace(out: &mut impl std::io::Write, trace: &Trace) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *out, trace)?;
+    out.write_all(b"\n")
 }
 
 /// The VCD file of a run with a trace.

@@ -639,3 +639,20 @@ fn the_drilling_example_test_passes() {
         run.stdout
     );
 }
+
+#[test]
+fn an_until_failure_quotes_the_expression_as_written() {
+    let tree = workspace();
+    tree.file(
+        "tests/wort.higraph",
+        "test Wort <\n  run Pult;\n  until MW  10 = W#16#FF\n    and Lampe within T#20MS;\n>\n",
+    );
+    let run = test(&tree, &["--filter", "wort", "--format", "json"]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    assert_eq!(
+        json["tests"][0]["failures"][0]["message"],
+        "'MW 10 = W#16#FF and Lampe' did not hold within T#20MS: at cycle 2: MW10 = 0, \
+         Lampe = FALSE"
+    );
+}

@@ -8,7 +8,8 @@
 //!   stays 10 000 000.
 //! * `'{expr}'` of HG9902 is the expression printed back from the lowered program: paths as
 //!   written (white space removed), constants canonical, operators lower case, parentheses
-//!   only where precedence needs them.
+//!   only where precedence needs them. Callers that have the source (`higraph-lsp test`, the
+//!   server) put the text as written in its place.
 //! * An expression without paths (`expect FALSE;`) has no `: {values}` part.
 //! * A path that cannot be read for the trace's `watch` (a fault while reading) is `null`
 //!   there; the test itself is not affected.

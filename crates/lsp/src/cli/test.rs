@@ -31,7 +31,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use super::output::{self, Reported, SourceFile, Sources};
 use super::paths::OutputPaths;
 use super::{CliError, EXIT_FAILURE, TestArgs, TestFormat, write_stdout};
-use crate::testing::{self, OutputJson, Positions, SummaryJson, TestResult, test_json, trace_text};
+use crate::testing::{
+    self, OutputJson, Positions, SummaryJson, TestResult, test_json, write_trace,
+};
 use crate::workspace;
 
 pub(crate) fn run(args: &TestArgs) -> Result<ExitCode, CliError> {
@@ -503,21 +505,25 @@ fn write_traces(dir: &Path, result: &TestResult) -> Result<(), CliError> {
     let Some(trace) = &result.trace else {
         return Ok(());
     };
+    // Streamed into the file: a long test's trace need not exist twice in memory.
     write_atomically(
         &dir.join(trace_file_name(&result.item.name, "json")),
-        trace_text(trace).as_bytes(),
+        |out| write_trace(out, trace),
     )?;
     if let Some(vcd) = testing::vcd(result) {
         write_atomically(
             &dir.join(trace_file_name(&result.item.name, "vcd")),
-            vcd.as_bytes(),
+            |out| out.write_all(vcd.as_bytes()),
         )?;
     }
     Ok(())
 }
 
-/// Writes a temporary file next to `path`, then renames it over `path`.
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
+/// Writes a temporary file next to `path` with `write`, then renames it over `path`.
+fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut io::BufWriter<fs::File>) -> io::Result<()>,
+) -> Result<(), CliError> {
     let error = |error: io::Error| {
         CliError::new(format!(
             "cannot write '{}': {}",
@@ -531,9 +537,12 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
         .unwrap_or_default();
     let temporary = path.with_file_name(format!(".{file_name}.{}.trace-tmp", std::process::id()));
     let result = fs::File::create_new(&temporary)
-        .and_then(|mut file| {
-            file.write_all(bytes)?;
-            file.sync_all()
+        .and_then(|file| {
+            let mut out = io::BufWriter::new(file);
+            write(&mut out)?;
+            out.into_inner()
+                .map_err(io::IntoInnerError::into_error)?
+                .sync_all()
         })
         .and_then(|()| fs::rename(&temporary, path));
     if let Err(e) = result {
