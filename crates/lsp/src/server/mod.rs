@@ -716,8 +716,13 @@ mod tests {
             })
         });
         running.recv().expect("the request runs");
-        // What `CancelOnDrop` does when the client cancels the request.
-        token.cancel();
+        // What `CancelOnDrop` does when the client cancels the request. A cancellation that
+        // lands between two queries of the loop may be consumed without stopping it (the
+        // token cancels what runs), so it is repeated until the request has stopped.
+        while !request.is_finished() {
+            token.cancel();
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
         let failure = request
             .join()
             .expect("the request thread ends")
