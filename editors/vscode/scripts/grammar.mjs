@@ -345,11 +345,14 @@ const repository = {
         captures: { 1: { name: S.other }, 2: { name: S.langConst } },
       },
       {
-        match: r`(?i)\b(run)\s+(${ID})(?=\s*;)`,
+        match: r`(?i)\b(run)\s+(cyclic|time_monitoring|autostart)(?=\s*;)`,
         captures: { 1: { name: S.other }, 2: { name: S.option } },
       },
-      // a test's run list of several groups and charts
-      { match: r`(?i)^\s*\b(run)\b(?=\s+${ID}\s*,)`, captures: { 1: { name: S.stmtKw } } },
+      // a test's run list: one or several groups and charts
+      {
+        match: r`(?i)^\s*\b(run)\b(?=\s+(?!(?:cyclic|time_monitoring|autostart)\s*;)${ID}\s*[,;])`,
+        captures: { 1: { name: S.stmtKw } },
+      },
     ],
   },
 
