@@ -10,6 +10,7 @@
 //! contents to an [`AnalysisHost`].
 
 pub mod address;
+pub mod build;
 mod check;
 pub mod closest;
 pub mod config;
