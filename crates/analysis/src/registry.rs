@@ -1108,6 +1108,12 @@ pub const RULES: &[Rule] = &[
         "{feature} has no PLCopen equivalent; the export keeps it only in the documentation of {c}",
     ),
     rule(
+        "HG8105",
+        Severity::Error,
+        false,
+        "FC {n} is declared as an external block by 'block {x}'; building group {g} would overwrite it",
+    ),
+    rule(
         "HG9001",
         Severity::Error,
         false,

@@ -3,7 +3,7 @@
 //! fixture format is that of the rule fixtures (`tests/rules.rs`); a line `// target: awl` or
 //! `// target: plcopen` chooses the build target (default: both). The fixtures are workspaces
 //! `check` accepts (no error), as `build` needs them; the diagnostics of every failing fixture
-//! are snapshotted (code, severity, file, range, message, fixes).
+//! are snapshotted (code, severity, file, range, message, related, fixes).
 
 mod common;
 
@@ -62,6 +62,15 @@ fn build_fixture(bytes: &[u8]) -> (Vec<(String, String)>, Vec<String>) {
             d.code,
             d.message
         );
+        for r in &d.related {
+            let rf = r.file.0 as usize;
+            line.push_str(&format!(
+                "\n    related {} {}: {}",
+                out_files[rf].path,
+                pos(rf, r.range.start()),
+                r.message
+            ));
+        }
         for fix in &d.fixes {
             line.push_str(&format!("\n    fix: {}", fix.title));
             for e in &fix.edits {

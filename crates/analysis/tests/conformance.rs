@@ -13,7 +13,9 @@ use higraph_analysis::registry::RULES;
 /// `tooling.md`'s promise that no input kills the tools or floods their output; and the
 /// HG81xx of `build`, which `export.md` asks for ("a diagnostic in a new code") without
 /// tabling them.
-const PROJECT_CODES: &[&str] = &["HG0012", "HG0013", "HG8101", "HG8102", "HG8103", "HG8104"];
+const PROJECT_CODES: &[&str] = &[
+    "HG0012", "HG0013", "HG8101", "HG8102", "HG8103", "HG8104", "HG8105",
+];
 
 fn catalogue() -> Option<(PathBuf, String)> {
     let candidates = [

@@ -8,6 +8,7 @@
 //! | HG8102 | awl     | text the STEP 7 source would contain that Windows-1252 cannot encode |
 //! | HG8103 | plcopen | a chart variable, symbol, address or constant of an S7-only type |
 //! | HG8104 | plcopen | (info) PCS 7 chart logic PLCopen cannot express: kept in the documentation |
+//! | HG8105 | awl     | a group's FC is declared as an external block by a `block` item |
 //!
 //! Everything per item is a salsa query (`group_encoding`, `item_block_numbers`, `chart_rules`),
 //! so that the language server can ask for these diagnostics after every edit and pay only for
@@ -104,6 +105,9 @@ fn build_diags(
         for &(file, item) in groups {
             let loc = ItemLoc::new(db, file, item);
             if let Some(diag) = missing_clauses(db, loc, free.get(&(file, item))) {
+                push(&diag, &mut out);
+            }
+            for diag in external_block_clashes(db, ws, file, item) {
                 push(&diag, &mut out);
             }
             let mut items = vec![loc];
@@ -325,6 +329,70 @@ fn item_block_numbers<'db>(
         .collect();
     numbers.sort_unstable();
     numbers
+}
+
+// ============================================================================ HG8105
+
+/// The FCs that `block` items declare as external blocks: number → the first item's block
+/// reference (place and text).
+#[salsa::tracked(returns(ref))]
+fn external_fcs(db: &dyn salsa::Database, ws: Workspace) -> HashMap<u32, (Loc, String)> {
+    let index = db::global_index(db, ws);
+    let mut fcs = HashMap::new();
+    for entry in &index.block_interfaces {
+        let Some(reference) = db::item_root(db, ItemLoc::new(db, entry.file, entry.item))
+            .and_then(ast::BlockInterface::cast)
+            .and_then(|b| b.block())
+        else {
+            continue;
+        };
+        let set = db::file_mnemonic(db, ws, entry.file);
+        let Some(address) = resolve_block_ref(index, set, &reference).address() else {
+            continue;
+        };
+        if address.block_kind() == Some(BlockKind::Fc) {
+            let text = entry
+                .reference
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ");
+            fcs.entry(address.number)
+                .or_insert((entry.reference_loc, text));
+        }
+    }
+    fcs
+}
+
+/// HG8105: the FC a group generates is declared by a `block` item as a block outside the
+/// workspace (`check` reports calls of it, HG8010, but not the declaration).
+fn external_block_clashes(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    item: u32,
+) -> Vec<Diag> {
+    let external = external_fcs(db, ws);
+    if external.is_empty() {
+        return Vec::new();
+    }
+    generated_blocks(db, ws)
+        .iter()
+        .filter(|b| b.clause == Clause::Fc && b.name_loc.file == file && b.name_loc.item == Some(item))
+        .filter_map(|block| {
+            let (at, written) = external.get(&block.number)?;
+            Some(
+                Diag::new(
+                    "HG8105",
+                    block.name_loc,
+                    format!(
+                        "FC {} is declared as an external block by 'block {written}'; building group {} would overwrite it",
+                        block.number, block.group
+                    ),
+                )
+                .related(*at, format!("'block {written}' declares FC {}", block.number)),
+            )
+        })
+        .collect()
 }
 
 // ============================================================================ HG8102
