@@ -210,6 +210,20 @@ fn free_numbers(
     ws: Workspace,
 ) -> HashMap<(File, u32), (Option<u32>, Option<u32>)> {
     let (groups, _) = workspace_items(db, ws);
+    // The groups that lack a clause; most workspaces have none, and then nothing is scanned.
+    let wanting: Vec<(File, u32, bool, bool)> = groups
+        .into_iter()
+        .filter_map(|(file, item)| {
+            let group =
+                db::item_root(db, ItemLoc::new(db, file, item)).and_then(ast::Group::cast)?;
+            let need_fc = clause_node(&group, SyntaxKind::FC_CLAUSE).is_none();
+            let need_db = clause_node(&group, SyntaxKind::DB_CLAUSE).is_none();
+            (need_fc || need_db).then_some((file, item, need_fc, need_db))
+        })
+        .collect();
+    if wanting.is_empty() {
+        return HashMap::new();
+    }
     let mut used_fc: HashSet<u32> = HashSet::new();
     let mut used_db: HashSet<u32> = HashSet::new();
     for block in generated_blocks(db, ws) {
@@ -238,17 +252,7 @@ fn free_numbers(
     let mut next_fc = 1u32;
     let mut next_db = 1u32;
     let mut free = HashMap::new();
-    for (file, item) in groups {
-        let Some(group) =
-            db::item_root(db, ItemLoc::new(db, file, item)).and_then(ast::Group::cast)
-        else {
-            continue;
-        };
-        let need_fc = clause_node(&group, SyntaxKind::FC_CLAUSE).is_none();
-        let need_db = clause_node(&group, SyntaxKind::DB_CLAUSE).is_none();
-        if !need_fc && !need_db {
-            continue;
-        }
+    for (file, item, need_fc, need_db) in wanting {
         let fc = need_fc.then(|| next_free(&mut next_fc, &used_fc)).flatten();
         let dbn = need_db.then(|| next_free(&mut next_db, &used_db)).flatten();
         free.insert((file, item), (fc, dbn));
@@ -476,6 +480,10 @@ fn encoding_diag(text: &str, at: Loc) -> Option<Diag> {
 /// character constant. Line comments (`//`) are not written into the source.
 #[salsa::tracked(returns(ref))]
 fn item_encoding<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Vec<Diag> {
+    // Most files are ASCII throughout: nothing to look at.
+    if item.file(db).contents(db).text().is_ascii() {
+        return Vec::new();
+    }
     let Some(root) = db::item_root(db, item) else {
         return Vec::new();
     };
@@ -500,22 +508,11 @@ fn symbol_encoding(db: &dyn salsa::Database, index: &GlobalIndex, name: &str) ->
             let Some(item) = at.item else {
                 return Vec::new();
             };
-            let Some(root) = db::item_root(db, ItemLoc::new(db, at.file, item)) else {
-                return Vec::new();
-            };
-            // The declaration: the symbol node around the name token.
-            let Some(decl) = root
-                .descendants()
-                .filter_map(ast::Symbol::cast)
-                .find(|s| s.syntax().text_range().contains_range(at.range))
-            else {
-                return Vec::new();
-            };
-            tokens_of(decl.syntax())
-                .filter(|t| t.kind() == SyntaxKind::STRING && !t.text().is_ascii())
-                .filter_map(|t| {
-                    encoding_diag(t.text(), Loc::in_item(at.file, item, t.text_range()))
-                })
+            let wanted = key(&symbol.name);
+            symbols_encoding(db, ItemLoc::new(db, at.file, item))
+                .iter()
+                .filter(|(name, _)| *name == wanted)
+                .map(|(_, diag)| diag.clone())
                 .collect()
         }
         SymbolSource::Imported(_) => {
@@ -534,6 +531,30 @@ fn symbol_encoding(db: &dyn salsa::Database, index: &GlobalIndex, name: &str) ->
             }
         }
     }
+}
+
+/// HG8102 in the declarations of one `symbols` item, with the (upper case) name of the symbol
+/// each belongs to; scanned once per item, not once per symbol.
+#[salsa::tracked(returns(ref))]
+fn symbols_encoding<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Vec<(String, Diag)> {
+    let Some(root) = db::item_root(db, item).and_then(ast::Symbols::cast) else {
+        return Vec::new();
+    };
+    let (file, index) = (item.file(db), item.index(db));
+    let mut out = Vec::new();
+    for decl in root.symbols() {
+        let name = key(&decl.name().map(|n| n.text()).unwrap_or_default());
+        for token in tokens_of(decl.syntax())
+            .filter(|t| t.kind() == SyntaxKind::STRING && !t.text().is_ascii())
+        {
+            if let Some(diag) =
+                encoding_diag(token.text(), Loc::in_item(file, index, token.text_range()))
+            {
+                out.push((name.clone(), diag));
+            }
+        }
+    }
+    out
 }
 
 fn tokens_of(node: &SyntaxNode) -> impl Iterator<Item = SyntaxToken> + use<> {
