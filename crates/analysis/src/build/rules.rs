@@ -9,6 +9,7 @@
 //! | HG8103 | plcopen | a chart variable, symbol, address or constant of an S7-only type |
 //! | HG8104 | plcopen | (info) PCS 7 chart logic PLCopen cannot express: kept in the documentation |
 //! | HG8105 | awl     | a group's FC is declared as an external block by a `block` item |
+//! | HG8106 | plcopen | a name declared in a chart is a keyword of IEC 61131-3 |
 //!
 //! Everything per item is a salsa query (`group_encoding`, `item_block_numbers`, `chart_rules`),
 //! so that the language server can ask for these diagnostics after every edit and pay only for
@@ -569,7 +570,7 @@ fn s7_only(ty: Type) -> bool {
     matches!(ty, Type::S5Time | Type::Timer | Type::Counter)
 }
 
-/// HG8103 and HG8104 in one chart.
+/// HG8103, HG8104 and HG8106 in one chart.
 #[salsa::tracked(returns(ref))]
 fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'db>) -> Vec<Diag> {
     let Some(chart) = db::item_root(db, item).and_then(ast::Chart::cast) else {
@@ -656,6 +657,39 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
         }
     }
 
+    // HG8106: declared names that IEC 61131-3 reserves.
+    for node in chart
+        .syntax()
+        .descendants()
+        .filter(|n| n.kind() == SyntaxKind::NAME)
+    {
+        let declares = node.parent().is_some_and(|p| {
+            matches!(
+                p.kind(),
+                SyntaxKind::CHART
+                    | SyntaxKind::VAR_DECL
+                    | SyntaxKind::SEQUENCER
+                    | SyntaxKind::STEP
+                    | SyntaxKind::CHART_TRANS
+                    | SyntaxKind::JUMP
+                    | SyntaxKind::LOOP
+            )
+        });
+        let Some(token) = node.first_token().filter(|t| t.kind() == SyntaxKind::IDENT) else {
+            continue;
+        };
+        if declares && is_iec_keyword(token.text()) {
+            out.push(Diag::new(
+                "HG8106",
+                at(token.text_range()),
+                format!(
+                    "'{}' is a keyword of IEC 61131-3; PLCopen tools cannot read it as a name",
+                    token.text()
+                ),
+            ));
+        }
+    }
+
     // HG8104: the chart's properties, then `min`/`max` and `confirm` of its steps.
     let documented = |feature: String| {
         format!(
@@ -690,6 +724,125 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
         }
     }
     out
+}
+
+/// The keywords and elementary type names of IEC 61131-3 (3rd edition) that are not reserved
+/// in this language already (`diagnostics.md` Appendix A reserves the shared type names,
+/// `TRUE FALSE AND OR XOR NOT` and the STL operations).
+const IEC_KEYWORDS: &[&str] = &[
+    "ABSTRACT",
+    "ACTION",
+    "ARRAY",
+    "AT",
+    "BY",
+    "CASE",
+    "CLASS",
+    "CONFIGURATION",
+    "CONSTANT",
+    "CONTINUE",
+    "DO",
+    "ELSE",
+    "ELSIF",
+    "EN",
+    "END_ACTION",
+    "END_CASE",
+    "END_CLASS",
+    "END_CONFIGURATION",
+    "END_FOR",
+    "END_FUNCTION",
+    "END_FUNCTION_BLOCK",
+    "END_IF",
+    "END_INTERFACE",
+    "END_METHOD",
+    "END_NAMESPACE",
+    "END_PROGRAM",
+    "END_REPEAT",
+    "END_RESOURCE",
+    "END_STEP",
+    "END_STRUCT",
+    "END_TRANSITION",
+    "END_TYPE",
+    "END_VAR",
+    "END_WHILE",
+    "ENO",
+    "EXIT",
+    "EXTENDS",
+    "F_EDGE",
+    "FINAL",
+    "FOR",
+    "FROM",
+    "FUNCTION",
+    "FUNCTION_BLOCK",
+    "IF",
+    "IMPLEMENTS",
+    "INITIAL_STEP",
+    "INTERFACE",
+    "INTERNAL",
+    "INTERVAL",
+    "LDATE",
+    "LDT",
+    "LINT",
+    "LREAL",
+    "LTIME",
+    "LTOD",
+    "LWORD",
+    "METHOD",
+    "MOD",
+    "NAMESPACE",
+    "NON_RETAIN",
+    "NULL",
+    "OF",
+    "ON",
+    "OVERLAP",
+    "OVERRIDE",
+    "PRIORITY",
+    "PRIVATE",
+    "PROGRAM",
+    "PROTECTED",
+    "PUBLIC",
+    "R_EDGE",
+    "READ_ONLY",
+    "READ_WRITE",
+    "REF",
+    "REF_TO",
+    "REPEAT",
+    "RESOURCE",
+    "RETAIN",
+    "RETURN",
+    "SINGLE",
+    "SINT",
+    "STEP",
+    "STRUCT",
+    "SUPER",
+    "TASK",
+    "THEN",
+    "THIS",
+    "TO",
+    "TRANSITION",
+    "TYPE",
+    "UDINT",
+    "UINT",
+    "ULINT",
+    "UNTIL",
+    "USINT",
+    "USING",
+    "VAR",
+    "VAR_ACCESS",
+    "VAR_CONFIG",
+    "VAR_EXTERNAL",
+    "VAR_GLOBAL",
+    "VAR_IN_OUT",
+    "VAR_INPUT",
+    "VAR_OUTPUT",
+    "VAR_TEMP",
+    "WCHAR",
+    "WHILE",
+    "WITH",
+    "WSTRING",
+];
+
+fn is_iec_keyword(name: &str) -> bool {
+    IEC_KEYWORDS.contains(&name.to_ascii_uppercase().as_str())
 }
 
 fn s7_message(x: &str, ty: Type) -> String {
