@@ -14,7 +14,7 @@ use crate::{Analysis, Cancellable, Diagnostic, TextRange};
 
 mod awl;
 mod plcopen;
-mod rules;
+pub(crate) mod rules;
 
 /// What `build` generates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

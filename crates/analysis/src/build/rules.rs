@@ -66,6 +66,38 @@ impl Analysis {
 /// Items as `(file, index in the file)`.
 type Items = Vec<(File, u32)>;
 
+/// The fix of HG8101 for the group of `file` whose name token is at `name_range` (absolute),
+/// converted like a diagnostic's fix; `None` if that group has both clauses, HG8101 is switched
+/// off, or no free number is left. The language server shows no HG81xx (they depend on the
+/// build target, and `check` accepts what they report); it offers this fix as a quick fix of
+/// `check`'s HG8002/HG8003 on the same name ([`crate::ide::code_actions`]).
+pub(crate) fn missing_clause_fix(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    name_range: TextRange,
+) -> Option<crate::Fix> {
+    let offsets = db::item_offsets(db, file);
+    let item = db::file_summary(db, file)
+        .items
+        .iter()
+        .enumerate()
+        .find(|(i, summary)| {
+            summary.kind == ItemKind::Group
+                && summary
+                    .name_range
+                    .zip(offsets.get(*i))
+                    .is_some_and(|(range, &offset)| range + offset == name_range)
+        })
+        .map(|(i, _)| i as u32)?;
+    let free = free_numbers(db, ws).get(&(file, item));
+    let diag = missing_clauses(db, ItemLoc::new(db, file, item), free)?;
+    check::convert_extra(db, ws, &[diag])
+        .into_iter()
+        .next()
+        .and_then(|(_, d)| d.fixes.into_iter().next())
+}
+
 /// Every group and every chart of the workspace, in workspace order.
 pub(crate) fn workspace_items(db: &dyn salsa::Database, ws: Workspace) -> (Items, Items) {
     let mut groups = Vec::new();
