@@ -680,7 +680,14 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
     }
     for token in tokens_of(chart.syntax()).filter(|t| t.kind() == SyntaxKind::TYPED_CONST) {
         let upper = token.text().to_ascii_uppercase();
-        if upper.starts_with("S5T#") || upper.starts_with("S5TIME#") {
+        // The initial value of a variable reported at its type is the same mistake.
+        let in_reported_decl = token
+            .parent_ancestors()
+            .find_map(ast::VarDecl::cast)
+            .and_then(|d| d.ty())
+            .and_then(|t| crate::index::declared_type(&t))
+            .is_some_and(s7_only);
+        if !in_reported_decl && (upper.starts_with("S5T#") || upper.starts_with("S5TIME#")) {
             out.push(Diag::new(
                 "HG8103",
                 at(token.text_range()),
