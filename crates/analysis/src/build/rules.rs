@@ -736,12 +736,106 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
         )
     };
     for prop in chart.props() {
+        // `switching T` (transitions switch on their own) is what an IEC SFC does.
+        let is_switching = prop
+            .keyword()
+            .is_some_and(|k| k.kind() == SyntaxKind::SWITCHING_KW);
+        if is_switching
+            && prop
+                .value()
+                .is_some_and(|v| v.text().eq_ignore_ascii_case("T"))
+        {
+            continue;
+        }
         let range = item_range(prop.syntax());
         let text = collapsed(prop.syntax());
         out.push(Diag::new(
             "HG8104",
             at(range),
             documented(format!("'{text}'")),
+        ));
+    }
+    let sequencers: Vec<ast::Sequencer> = chart.sequencers().collect();
+    // One sequencer: its start step is the block's initial step, the caller decides when the
+    // block runs; several of different priorities: one may displace another (`runtime.md` §4.4).
+    if let [only] = sequencers.as_slice()
+        && let Some(start) = only.start()
+        && start.conditions().next().is_some()
+        && let Some(keyword) = start.syntax().first_token()
+    {
+        let name = only.name().map(|n| n.text()).unwrap_or_default();
+        out.push(Diag::new(
+            "HG8104",
+            at(keyword.text_range()),
+            documented(format!(
+                "the start condition of sequencer {name}, the chart's only sequencer,"
+            )),
+        ));
+    }
+    let prio = |s: &ast::Sequencer| {
+        s.prio()
+            .and_then(|p| p.value())
+            .and_then(|v| v.text().parse::<i64>().ok())
+            .unwrap_or(1)
+    };
+    if let Some(first) = sequencers.first()
+        && sequencers.iter().any(|s| prio(s) != prio(first))
+        && let Some(token) = chart.name().and_then(|n| n.token())
+    {
+        out.push(Diag::new(
+            "HG8104",
+            at(token.text_range()),
+            documented("displacing a running sequencer by one of higher priority".to_owned()),
+        ));
+    }
+    for sequencer in &sequencers {
+        let name = sequencer.name().map(|n| n.text()).unwrap_or_default();
+        let parts = [
+            sequencer
+                .pre()
+                .map(|p| (p.syntax().clone(), p.assignments().next().is_some())),
+            sequencer
+                .post()
+                .map(|p| (p.syntax().clone(), p.assignments().next().is_some())),
+        ];
+        for (part, written) in parts.into_iter().flatten() {
+            if let (true, Some(keyword)) = (written, part.first_token()) {
+                out.push(Diag::new(
+                    "HG8104",
+                    at(keyword.text_range()),
+                    documented(format!("'{}' of sequencer {name}", keyword.text())),
+                ));
+            }
+        }
+    }
+    // A jump or loop after a step without a successor transition (the end step, the last step
+    // of a parallel branch): an IEC selection divergence needs that transition first.
+    for node in chart
+        .syntax()
+        .descendants()
+        .filter(|n| matches!(n.kind(), SyntaxKind::JUMP | SyntaxKind::LOOP))
+    {
+        let successor = std::iter::successors(node.next_sibling(), |n| n.next_sibling())
+            .filter_map(ast::SeqElement::cast)
+            .find(|e| !matches!(e, ast::SeqElement::Jump(_) | ast::SeqElement::Loop(_)));
+        if successor.is_some() {
+            continue;
+        }
+        let header_end = node
+            .children()
+            .find(|c| c.kind() == SyntaxKind::NAME)
+            .map(|n| n.text_range().end());
+        let (Some(first), Some(end)) = (node.first_token(), header_end) else {
+            continue;
+        };
+        let header = TextRange::new(first.text_range().start(), end);
+        let text = collapsed_range(&node, header);
+        out.push(Diag::new(
+            "HG8104",
+            at(header),
+            documented(format!(
+                "'{text}' after a step without a successor transition"
+            )),
         ));
     }
     for step in chart.syntax().descendants().filter_map(ast::Step::cast) {
@@ -898,6 +992,15 @@ fn item_range(node: &SyntaxNode) -> TextRange {
     };
     let last = significant.last().unwrap_or_else(|| first.clone());
     TextRange::new(first.text_range().start(), last.text_range().end())
+}
+
+/// The significant tokens of a node within `range`, joined by single spaces.
+fn collapsed_range(node: &SyntaxNode, range: TextRange) -> String {
+    tokens_of(node)
+        .filter(|t| !t.kind().is_trivia() && range.contains_range(t.text_range()))
+        .map(|t| t.text().to_owned())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The significant tokens of a node joined by single spaces, without the `;`.
