@@ -2,6 +2,10 @@
 //! the rule is off by default (§2.9), and a short description (the message template, used
 //! by SARIF's `shortDescription` and by `explain`'s header).
 //!
+//! Besides the catalogue's codes it holds the few this project adds (HG0012, HG0013, and the
+//! HG81xx that only `build` reports, in the sub-range 81xx "build" of HG8xxx "group options
+//! and compile settings"); the conformance test lists them.
+//!
 //! The registry test checks this list against the rule documentation in `docs/rules/` and the
 //! fixtures; the conformance test compares it with the catalogue itself.
 

@@ -7,10 +7,12 @@
 //! | `decls`      | HG1201, HG1203–HG1206, HG1213, HG1215: variable declarations of graphs, charts and `block` interfaces |
 //! | `graph`      | HG1202, HG1211, HG1212 (graph declarations), HG2xxx, HG3001–HG3003, HG3007, HG3101, HG3102 |
 //! | `stl`        | operand resolution in graphs; HG1104, HG1207–HG1210, HG1214, HG3004–HG3006, HG3008, HG4xxx |
-//! | `group`      | HG3103, HG3104, HG5xxx, HG8xxx |
+//! | `group`      | HG3103, HG3104, HG5xxx, HG80xx |
 //! | `symbols`    | HG6xxx, HG4309, HG4310, HG1301 (workspace-wide) |
 //! | `chart`      | HG7xxx and the chart side of HG1xxx/HG3xxx/HG4101 |
 //! | `test`       | HG9001–HG9010: the structure of tests (paths and types are the lowering's) |
+//!
+//! The HG81xx codes are not `check`'s: only `build` evaluates them (`crate::build::rules`).
 //!
 //! Shared by the modules: `edit` (the text edits of quick fixes), `has_error` (C1) and
 //! `Ctx::with_closest_fix` ("did you mean" fixes); `stl::time` checks the time values of
