@@ -598,7 +598,7 @@ impl Writer {
     }
 
     fn node(&mut self, n: &Node<'_>) {
-        let i = 4;
+        let i = 6;
         match n {
             Node::Step {
                 id,
@@ -860,13 +860,8 @@ fn pou_xml(w: &mut Writer, pou: &Pou, next_id: u64) -> u64 {
     layout.sequence(&pou.body, 0, 0, None, 0, None);
     w.line(4, "<body>");
     w.line(5, "<SFC>");
-    let mut inner = Writer { out: String::new() };
     for n in &layout.nodes {
-        inner.node(n);
-    }
-    // Node lines are written at depth 4; the SFC element stands at depth 6.
-    for l in inner.out.lines() {
-        w.line(2, l);
+        w.node(n);
     }
     w.line(5, "</SFC>");
     w.line(4, "</body>");
