@@ -339,7 +339,7 @@ impl<'a> Layout<'a> {
                             actions: &step.actions,
                         });
                         let h = ACTION_H * step.actions.len() as i64;
-                        span = (h + ROW_H - 1 - 10) / ROW_H + 1;
+                        span = (h + 10 + ROW_H - 1) / ROW_H;
                     }
                     input = Some(Pin {
                         id,

@@ -850,11 +850,11 @@ fn chart_pou(
             s.name, s.prio, s.start
         ));
     }
-    if !props.is_empty() {
-        doc.push(format!("Not in IEC: {}.", props.join("; ")));
-    }
-    if !reader.notes.is_empty() {
+    if !props.is_empty() || !reader.notes.is_empty() {
         doc.push("Not in IEC:".to_owned());
+        for p in &props {
+            doc.push(format!("- {p}"));
+        }
         for n in &reader.notes {
             doc.push(format!("- {n}"));
         }
