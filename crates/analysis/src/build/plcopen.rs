@@ -24,8 +24,7 @@
 use std::collections::{HashMap, HashSet};
 
 use higraph_export::plcopen::{
-    ActionAssoc, ActionBody, Element, IecType, Pou, Project, Qualifier, Step, Transition,
-    Variable,
+    ActionAssoc, ActionBody, Element, IecType, Pou, Project, Qualifier, Step, Transition, Variable,
 };
 use higraph_syntax::{
     SyntaxKind,
@@ -264,7 +263,9 @@ impl Reader<'_, '_> {
                     Some(direct) if !action => direct,
                     direct => {
                         let doc = if direct.is_none() {
-                            Some(format!("STEP 7 address {display} has no IEC direct address"))
+                            Some(format!(
+                                "STEP 7 address {display} has no IEC direct address"
+                            ))
                         } else {
                             None
                         };
@@ -533,7 +534,7 @@ impl Reader<'_, '_> {
         let mut documentation = comment(step.syntax()).unwrap_or_default();
         if !notes.is_empty() {
             if !documentation.is_empty() {
-                documentation.push_str("\n");
+                documentation.push('\n');
             }
             documentation.push_str(&format!("not in IEC: {}", notes.join(", ")));
         }
@@ -784,9 +785,6 @@ fn chart_pou(
         };
         let value = value.text();
         let keyword = keyword.text().to_ascii_lowercase();
-        if keyword == "switching" && value.eq_ignore_ascii_case("T") {
-            continue;
-        }
         props.push(format!("{keyword} {value}"));
     }
     let mut seen = HashSet::new();
@@ -1134,7 +1132,10 @@ mod tests {
             }
         }
         let mut singles: Vec<PathBuf> = Vec::new();
-        for dir in ["crates/analysis/test_data/plcopen", "crates/analysis/test_data/rules"] {
+        for dir in [
+            "crates/analysis/test_data/plcopen",
+            "crates/analysis/test_data/rules",
+        ] {
             let mut stack = vec![root().join(dir)];
             while let Some(d) = stack.pop() {
                 for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
