@@ -244,12 +244,19 @@ impl Reader<'_, '_> {
             Target::Var(i) => self.scope.vars.get(i)?.name.clone(),
             Target::Symbol { name, ty, address } => {
                 let addr = address.as_ref().and_then(direct_address);
+                let comment = self
+                    .ctx
+                    .index
+                    .symbol(&name)
+                    .and_then(|s| s.comment.clone())
+                    .filter(|c| !c.is_empty());
                 let doc = match (&address, &addr) {
                     (Some(a), None) => Some(format!(
-                        "STEP 7 address {} has no IEC direct address",
+                        "{}STEP 7 address {} has no IEC direct address",
+                        comment.map(|c| format!("{c}; ")).unwrap_or_default(),
                         a.display(crate::lang::Mnemonic::Simatic)
                     )),
-                    _ => None,
+                    _ => comment,
                 };
                 let var = self
                     .globals
