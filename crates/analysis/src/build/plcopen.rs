@@ -1115,6 +1115,38 @@ mod tests {
         assert_eq!(xml(&load_fixture(&files)).0, xml(&load_fixture(&files)).0);
     }
 
+    /// Every chart of the rule fixtures, those with errors included (a build would refuse
+    /// them, but the export must not panic on any input): the ids still hold.
+    #[test]
+    fn any_chart_fixture_exports_without_panic() {
+        let mut stack = vec![root().join("crates/analysis/test_data")];
+        let mut n = 0;
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    stack.push(p);
+                    continue;
+                }
+                let text = std::fs::read(&p).unwrap_or_default();
+                if !p.extension().is_some_and(|x| x == "higraph")
+                    || !String::from_utf8_lossy(&text).contains("chart")
+                {
+                    continue;
+                }
+                let (xml, _) = xml(&load_fixture(&[("main.higraph".to_owned(), text)]));
+                let ids = attrs(&xml, "localId");
+                let unique: std::collections::HashSet<_> = ids.iter().collect();
+                assert_eq!(unique.len(), ids.len(), "{}", p.display());
+                for r in attrs(&xml, "refLocalId") {
+                    assert!(unique.contains(&r), "{}", p.display());
+                }
+                n += 1;
+            }
+        }
+        assert!(n > 100, "{n} chart fixtures");
+    }
+
     /// For `scripts/plcopen-check`: writes the documents of the examples, the fixtures and the
     /// test data charts that check clean into `$HIGRAPH_PLCOPEN_OUT` (does nothing without).
     #[test]
