@@ -218,6 +218,15 @@ fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
         return;
     };
     let host = load_dir(&repo(dir));
+    let errors: Vec<String> = host
+        .analysis()
+        .diagnostics()
+        .into_iter()
+        .flat_map(|(_, d)| d)
+        .filter(|d| d.severity == higraph_analysis::Severity::Error)
+        .map(|d| format!("{} {}", d.code, d.message))
+        .collect();
+    assert!(errors.is_empty(), "{dir}: {errors:#?}");
     let options = BuildOptions {
         with_ob1: true,
         ..ABSOLUTE
@@ -347,7 +356,11 @@ fn awlsim_runtime_examples() {
         ("tests/data/runtime/e4", "G"),
         ("tests/data/runtime/e5", "Vorwaerts"),
         ("tests/data/runtime/e5", "Rueckwaerts"),
+        ("crates/analysis/tests/build_awl/features", "Paar"),
+        ("crates/analysis/tests/build_awl/features", "Einfach"),
     ] {
-        differential(dir, group, 11, 200);
+        for seed in [11, 12, 13] {
+            differential(dir, group, seed, 300);
+        }
     }
 }
