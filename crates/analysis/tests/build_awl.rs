@@ -8,6 +8,11 @@ use higraph_analysis::build::BuildOptions;
 use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
 
 fn load_dir(root: &std::path::Path) -> AnalysisHost {
+    load_dir_with(root, None)
+}
+
+/// The workspace at `root`, with another `higraph.toml` when `config` is given.
+fn load_dir_with(root: &std::path::Path, config: Option<&str>) -> AnalysisHost {
     let mut data = WorkspaceData::default();
     let mut stack = vec![root.to_path_buf()];
     let mut files = Vec::new();
@@ -34,6 +39,12 @@ fn load_dir(root: &std::path::Path) -> AnalysisHost {
         } else if rel == "higraph.toml" {
             data.config = Some((rel, FileContents::from_bytes(bytes)));
         }
+    }
+    if let Some(text) = config {
+        data.config = Some((
+            "higraph.toml".to_owned(),
+            FileContents::from_bytes(text.as_bytes().to_vec()),
+        ));
     }
     let mut host = AnalysisHost::new();
     host.load(data);
@@ -213,11 +224,15 @@ fn python() -> Option<std::path::PathBuf> {
 /// cycle each instance's predefined variables (and own declared variables), the outputs and
 /// the bit memory.
 fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
+    differential_with(dir, None, group, seed, cycles)
+}
+
+fn differential_with(dir: &str, config: Option<&str>, group: &str, seed: u64, cycles: usize) {
     let Some(python) = python() else {
         eprintln!("Awlsim's venv is missing (run scripts/awlsim-diff once): skipped");
         return;
     };
-    let host = load_dir(&repo(dir));
+    let host = load_dir_with(&repo(dir), config);
     let errors: Vec<String> = host
         .analysis()
         .diagnostics()
@@ -234,7 +249,12 @@ fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
     let (name, bytes) = source(&host, group, &options);
     let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("build_awl");
     std::fs::create_dir_all(&out).unwrap();
-    let awl = out.join(format!("{}-{name}", dir.replace('/', "_")));
+    let intl = config.is_some_and(|c| c.contains("international"));
+    let awl = out.join(format!(
+        "{}{}-{name}",
+        dir.replace('/', "_"),
+        if intl { "-intl" } else { "" }
+    ));
     std::fs::write(&awl, &bytes).unwrap();
     let text = text(&bytes);
     let db: u32 = text
@@ -316,8 +336,9 @@ fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
     }
     let names: Vec<String> = fields.iter().map(|(n, _)| format!("\"{n}\"")).collect();
     let scenario = format!(
-        "{{\"awl\":{:?},\"db\":{db},\"dt\":10,\"fields\":[{}],\"bytes\":[[\"A\",0,8],[\"M\",0,64]],\"cycles\":[{}]}}",
+        "{{\"awl\":{:?},\"mnemonics\":\"{}\",\"db\":{db},\"dt\":10,\"fields\":[{}],\"bytes\":[[\"A\",0,8],[\"M\",0,64]],\"cycles\":[{}]}}",
         awl.to_string_lossy(),
+        if intl { "en" } else { "de" },
         names.join(","),
         cyc_json.join(",\n")
     );
@@ -363,4 +384,19 @@ fn awlsim_runtime_examples() {
             differential(dir, group, seed, 300);
         }
     }
+}
+
+#[test]
+fn awlsim_international_mnemonics() {
+    // The sources stay SIMATIC (their own `mnemonic` item would say so; here the workspace
+    // setting changes and the files are read in the international set): a file with SIMATIC
+    // operations in an international workspace is translated.
+    let config = "[workspace]\nmnemonic = \"international\"\n";
+    differential_with(
+        "crates/analysis/tests/build_awl/features_intl",
+        Some(config),
+        "Paar",
+        21,
+        300,
+    );
 }

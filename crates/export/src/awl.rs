@@ -1258,7 +1258,7 @@ impl<'a> Gen<'a> {
                 match t.to {
                     Target::State(n) => {
                         self.g("L", &hs);
-                        self.g("L", &n.to_string());
+                        self.g("L", &format!("L#{n}"));
                     }
                     Target::Return => {
                         let ht = self.temp("HG_T");
@@ -1266,7 +1266,7 @@ impl<'a> Gen<'a> {
                         self.g("L", &ht);
                     }
                 }
-                self.g("==I", "");
+                self.g("==D", "");
                 self.g("=", &blk);
                 self.restore();
                 self.g("SET", "");
@@ -1394,9 +1394,10 @@ impl<'a> Gen<'a> {
         self.save();
         let max = states.iter().map(|s| s.number).max().unwrap_or(0);
         if max <= 255 {
+            // As a DINT: the WORD zero-extended, so 32768.. is not negative.
             self.g("L", var);
-            self.g("L", "255");
-            self.g(">I", "");
+            self.g("L", "L#255");
+            self.g(">D", "");
             self.g("SPB", &dflt);
             self.g("L", var);
             self.g("SPL", &dflt);
@@ -1412,8 +1413,8 @@ impl<'a> Gen<'a> {
         } else {
             for (k, st) in states.iter().enumerate() {
                 self.g("L", var);
-                self.g("L", &st.number.to_string());
-                self.g("==I", "");
+                self.g("L", &format!("L#{}", st.number));
+                self.g("==D", "");
                 let l = labels[k].clone();
                 self.g("SPB", &l);
             }
@@ -1503,8 +1504,8 @@ impl<'a> Gen<'a> {
             self.g("R", &ok);
             for st in &graph.states {
                 self.g("L", &ht);
-                self.g("L", &st.number.to_string());
-                self.g("==I", "");
+                self.g("L", &format!("L#{}", st.number));
+                self.g("==D", "");
                 self.g("O", &ok);
                 self.g("=", &ok);
             }
@@ -1585,7 +1586,7 @@ impl<'a> Gen<'a> {
         let cs = self.pv(Predef::CurrentState, Access::Write)?;
         let hc = self.temp("HG_C");
         self.save();
-        self.g("L", &d.to_string());
+        self.g("L", &word_literal(d));
         self.g("T", &cs);
         self.g("T", &hc);
         self.set_bit(Predef::StateChange, true)?;
@@ -1922,6 +1923,15 @@ enum ChangeKind {
     Initial,
     Startup,
     Normal,
+}
+
+/// A state number as a 16-bit constant (`L 40000` would be a DINT).
+fn word_literal(n: u16) -> String {
+    if n <= 32767 {
+        n.to_string()
+    } else {
+        format!("W#16#{n:X}")
+    }
 }
 
 fn target_text(t: Target) -> String {
