@@ -438,5 +438,12 @@ fn awlsim_international_mnemonics() {
 fn awlsim_symbolic() {
     // The symbolic sources with the symbol table `build` writes beside them.
     differential_with("examples/drilling", None, "Bohrmaschine", 5, 300, false);
-    differential_with("crates/analysis/tests/build_awl/features", None, "Paar", 5, 300, false);
+    differential_with(
+        "crates/analysis/tests/build_awl/features",
+        None,
+        "Paar",
+        5,
+        300,
+        false,
+    );
 }

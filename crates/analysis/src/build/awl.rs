@@ -284,7 +284,14 @@ mod tests {
             .unwrap();
         let want: Vec<_> = symbols
             .iter()
-            .map(|s| (s.name.clone(), s.address.clone(), s.ty.clone(), s.comment.clone()))
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    s.address.clone(),
+                    s.ty.clone(),
+                    s.comment.clone(),
+                )
+            })
             .collect();
         assert_eq!(read, want);
     }
