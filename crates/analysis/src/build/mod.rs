@@ -181,9 +181,12 @@ fn build_item(
         ..*options
     };
     let item = [(found.file, found.item)];
-    let (groups, charts): (&[(File, u32)], &[(File, u32)]) =
-        if chart { (&[], &item) } else { (&item, &[]) };
-    run(db, ws, groups, charts, &[found.file], &options)
+    let none: &[(File, u32)] = &[];
+    if chart {
+        run(db, ws, none, &item, &[found.file], &options)
+    } else {
+        run(db, ws, &item, none, &[found.file], &options)
+    }
 }
 
 fn build_items(db: &dyn salsa::Database, _ws: Workspace, file: File) -> Vec<BuildItem> {
