@@ -199,7 +199,7 @@ fn errors_stop_the_build_before_anything_is_written() {
     assert!(run.stdout.contains("--> plant.higraph:"), "{}", run.stdout);
     assert!(
         run.stderr
-            .contains("error: nothing built: errors in the 1 group to build"),
+            .contains("error: nothing built: errors in the group to build or in what it uses"),
         "{}",
         run.stderr
     );
@@ -214,6 +214,17 @@ fn errors_stop_the_build_before_anything_is_written() {
     let run = build(&tree, &[]);
     assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
     assert!(!tree.path().join("build").exists(), "nothing is written");
+
+    // An error in a test does not stop a build.
+    let tree = workspace();
+    tree.file("tests.higraph", "test Kaputt <\n  expect Nirgends;\n>\n");
+    assert_eq!(
+        run_in(tree.path(), &["check"]).status,
+        1,
+        "the test has an error"
+    );
+    let run = build(&tree, &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
 
     // An error in a chart does not stop a build of the groups only.
     let tree = workspace();
