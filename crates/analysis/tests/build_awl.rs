@@ -330,7 +330,7 @@ fn differential_with(
     for _ in 0..cycles {
         let mut sets = Vec::new();
         for (i, &(area, byte, bit)) in inputs.iter().enumerate() {
-            if rng.next() % 4 == 0 {
+            if rng.next().is_multiple_of(4) {
                 values[i] = !values[i];
                 let place = Place::Mem {
                     area,
@@ -438,5 +438,12 @@ fn awlsim_international_mnemonics() {
 fn awlsim_symbolic() {
     // The symbolic sources with the symbol table `build` writes beside them.
     differential_with("examples/drilling", None, "Bohrmaschine", 5, 300, false);
-    differential_with("crates/analysis/tests/build_awl/features", None, "Paar", 5, 300, false);
+    differential_with(
+        "crates/analysis/tests/build_awl/features",
+        None,
+        "Paar",
+        5,
+        300,
+        false,
+    );
 }

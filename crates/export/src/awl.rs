@@ -58,7 +58,7 @@ use higraph_runtime::program::{
     Block, CellId, GraphId, Instr, OpCode, Operand, Origin, Place, Predef, Program, State, Target,
     TimeValue, Trans, VarIdx, Width,
 };
-use higraph_runtime::program::{Graph, Instance, MemArea};
+use higraph_runtime::program::{CounterId, Graph, Instance, MemArea, TimerId};
 use higraph_runtime::value::{Ty, Value};
 
 use crate::sdf;
@@ -524,12 +524,11 @@ enum Access {
 }
 
 /// The generator's temporaries (`VAR_TEMP`, after the user's local bytes).
-const TEMPS: [(&str, Ty); 12] = [
+const TEMPS: [(&str, Ty); 11] = [
     ("HG_A1", Ty::Dword),
     ("HG_A2", Ty::Dword),
     ("HG_Now", Ty::Time),
     ("HG_Dt", Ty::Dint),
-    ("HG_V", Ty::Dint),
     ("HG_SW", Ty::Word),
     ("HG_S", Ty::Word),
     ("HG_C", Ty::Word),
@@ -793,11 +792,14 @@ impl<'a> Gen<'a> {
                 let db = self.sym(db);
                 format!("{db}.{}.{}", i.name, info.name)
             }
-            None => mem_text(
-                MemArea::Db(self.names.db.number as u16),
-                off.byte,
-                width_of(info.ty, off.bit),
-                self.opt.mnemonic,
+            None => note(
+                mem_text(
+                    MemArea::Db(self.names.db.number as u16),
+                    off.byte,
+                    width_of(info.ty, off.bit),
+                    self.opt.mnemonic,
+                ),
+                &format!("{}.{}", i.name, info.name),
             ),
         })
     }
@@ -814,11 +816,14 @@ impl<'a> Gen<'a> {
                     .iter()
                     .find(|g| g.0 == name)
                     .map_or(Ty::Bool, |g| g.1);
-                mem_text(
-                    MemArea::Db(self.names.db.number as u16),
-                    off.byte,
-                    width_of(ty, off.bit),
-                    self.opt.mnemonic,
+                note(
+                    mem_text(
+                        MemArea::Db(self.names.db.number as u16),
+                        off.byte,
+                        width_of(ty, off.bit),
+                        self.opt.mnemonic,
+                    ),
+                    name,
                 )
             }
         }
@@ -828,11 +833,14 @@ impl<'a> Gen<'a> {
         if self.opt.absolute {
             let off = self.temp_offsets[name];
             let ty = TEMPS.iter().find(|t| t.0 == name).map_or(Ty::Bool, |t| t.1);
-            mem_text(
-                MemArea::Local,
-                off.byte,
-                width_of(ty, off.bit),
-                self.opt.mnemonic,
+            note(
+                mem_text(
+                    MemArea::Local,
+                    off.byte,
+                    width_of(ty, off.bit),
+                    self.opt.mnemonic,
+                ),
+                name,
             )
         } else {
             format!("#{name}")
@@ -847,14 +855,31 @@ impl<'a> Gen<'a> {
         own: Option<(u32, VarIdx)>,
         ty: Option<Ty>,
     ) -> Result<String, Error> {
+        let global = matches!(
+            place,
+            Place::Mem { .. } | Place::Timer(_) | Place::Counter(_)
+        );
         if let Some(sym) = written
-            && !self.opt.absolute
-            && matches!(
-                place,
-                Place::Mem { .. } | Place::Timer(_) | Place::Counter(_)
-            )
+            && global
         {
-            return Ok(self.sym(sym));
+            if !self.opt.absolute {
+                return Ok(self.sym(sym));
+            }
+            let text = self.place_text(place, None, access, own, ty)?;
+            return Ok(note(text, &format!("\"{sym}\"")));
+        }
+        if let (Place::Timer(TimerId(n)) | Place::Counter(CounterId(n)), Some((i, v))) =
+            (place, own)
+            && *n >= 65536
+        {
+            let text = self.place_text(place, None, access, None, ty)?;
+            let inst = &self.group.instances[i as usize];
+            let var = self
+                .graph(inst)?
+                .vars
+                .get(v as usize)
+                .map_or("", |var| var.name.as_str());
+            return Ok(note(text, &format!("{}.{var}", inst.name)));
         }
         Ok(match place {
             Place::Mem { area, byte, width } => mem_text(*area, *byte, *width, self.opt.mnemonic),
@@ -959,11 +984,7 @@ impl<'a> Gen<'a> {
     }
 
     fn line(&mut self, op: &str, operand: &str) {
-        if operand.is_empty() {
-            let _ = writeln!(self.out, "      {op};");
-        } else {
-            let _ = writeln!(self.out, "      {op:<5} {operand};");
-        }
+        self.out.push_str(&statement(op, operand));
     }
 
     fn g(&mut self, op: &'static str, operand: &str) {
@@ -1088,7 +1109,7 @@ impl<'a> Gen<'a> {
             let n = params.len();
             for (k, (formal, text)) in params.into_iter().enumerate() {
                 let end = if k + 1 == n { ");" } else { "," };
-                let _ = writeln!(self.out, "           {formal:<24} := {text}{end}");
+                let _ = writeln!(self.out, "           {formal:<24} := {}{end}", bare(&text));
             }
             return Ok(());
         }
@@ -1125,7 +1146,11 @@ impl<'a> Gen<'a> {
         let init = self.glue_member("HG_Init");
         let fresh = self.temp("HG_Fresh");
         let _ = writeln!(self.out, "      CALL  SFC 64 (");
-        let _ = writeln!(self.out, "           RET_VAL                  := {now});");
+        let _ = writeln!(
+            self.out,
+            "           RET_VAL                  := {});",
+            bare(&now)
+        );
         self.g("L", &now);
         self.g("L", &last);
         self.g("-D", "");
@@ -1167,11 +1192,8 @@ impl<'a> Gen<'a> {
         self.g("T", "STW");
         self.g("L", "0");
         // Step 2: INIT_SD.
-        let init_sd = if self.opt.absolute {
-            "#INIT_SD".to_owned()
-        } else {
-            "#INIT_SD".to_owned()
-        };
+        // The FC's parameter is named in both modes (parameters have no absolute address).
+        let init_sd = "#INIT_SD".to_owned();
         for i in 0..self.group.instances.len() {
             self.inst = i as u32;
             let t = self.pv(Predef::InitSd, Access::Write)?;
@@ -1894,8 +1916,11 @@ impl<'a> Gen<'a> {
         );
         let (scan, init_sd) = if self.opt.absolute {
             (
-                "LB 1".to_owned(),
-                mem_text(MemArea::Local, 20, Width::Bit(0), self.opt.mnemonic),
+                note("LB 1".to_owned(), "OB1_SCAN_1"),
+                note(
+                    mem_text(MemArea::Local, 20, Width::Bit(0), self.opt.mnemonic),
+                    "HG_InitSd",
+                ),
             )
         } else {
             ("#OB1_SCAN_1".to_owned(), "#HG_InitSd".to_owned())
@@ -1903,12 +1928,7 @@ impl<'a> Gen<'a> {
         let init = self.glue_member("HG_Init");
         let m = self.opt.mnemonic;
         let mut line = |op: &'static str, operand: &str| {
-            let op = glue(op, m);
-            if operand.is_empty() {
-                let _ = writeln!(s, "      {op};");
-            } else {
-                let _ = writeln!(s, "      {op:<5} {operand};");
-            }
+            s.push_str(&statement(glue(op, m), operand));
         };
         line("L", &scan);
         line("L", "1");
@@ -1918,7 +1938,11 @@ impl<'a> Gen<'a> {
         let fc = self.names.fc.clone();
         let target = self.block_ref(&fc);
         let _ = writeln!(s, "      CALL  {target} (");
-        let _ = writeln!(s, "           INIT_SD                  := {init_sd});");
+        let _ = writeln!(
+            s,
+            "           INIT_SD                  := {});",
+            bare(&init_sd)
+        );
         let _ = writeln!(s, "END_ORGANIZATION_BLOCK");
         s
     }
@@ -1929,6 +1953,40 @@ enum ChangeKind {
     Initial,
     Startup,
     Normal,
+}
+
+/// Separates an absolute operand from the name it stands for (written as a comment).
+const NOTE: char = '\u{1}';
+
+/// `text` with `name` to be written as the statement's comment.
+fn note(text: String, name: &str) -> String {
+    format!("{text}{NOTE}{name}")
+}
+
+/// An operand without its note.
+fn bare(operand: &str) -> &str {
+    operand.split(NOTE).next().unwrap_or(operand)
+}
+
+/// One statement line: the operation padded to a column, the operand, `;`, and the names of
+/// absolute operands as a comment.
+fn statement(op: &str, operand: &str) -> String {
+    let mut parts = operand.split(NOTE);
+    let text = parts.next().unwrap_or("");
+    let notes: Vec<&str> = parts.collect();
+    let mut line = if text.is_empty() {
+        format!("      {op};")
+    } else {
+        format!("      {op:<5} {text};")
+    };
+    if !notes.is_empty() {
+        let pad = 30usize.saturating_sub(line.len()).max(1);
+        line.push_str(&" ".repeat(pad));
+        line.push_str("//");
+        line.push_str(&notes.join(", "));
+    }
+    line.push('\n');
+    line
 }
 
 /// A state number as a 16-bit constant (`L 40000` would be a DINT).

@@ -251,11 +251,13 @@ mod tests {
             },
         ];
         let bytes = write(&symbols).expect("Windows-1252");
-        let mut data = WorkspaceData::default();
-        data.config = Some((
-            "higraph.toml".into(),
-            FileContents::from_bytes(b"[workspace]\nsymbols = [\"symbols.sdf\"]\n".to_vec()),
-        ));
+        let mut data = WorkspaceData {
+            config: Some((
+                "higraph.toml".into(),
+                FileContents::from_bytes(b"[workspace]\nsymbols = [\"symbols.sdf\"]\n".to_vec()),
+            )),
+            ..WorkspaceData::default()
+        };
         data.imports.insert("symbols.sdf".into(), Ok(bytes));
         let mut host = AnalysisHost::new();
         host.load(data);
@@ -284,7 +286,14 @@ mod tests {
             .unwrap();
         let want: Vec<_> = symbols
             .iter()
-            .map(|s| (s.name.clone(), s.address.clone(), s.ty.clone(), s.comment.clone()))
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    s.address.clone(),
+                    s.ty.clone(),
+                    s.comment.clone(),
+                )
+            })
             .collect();
         assert_eq!(read, want);
     }
