@@ -119,6 +119,8 @@ pub struct Names {
     pub time_symbols: HashMap<(GraphId, u16, bool), String>,
     /// Per block of [`Program::blocks`]: the block called.
     pub blocks: Vec<BlockName>,
+    /// `CALL FB n, DB m`: the instance data block, by the call's origin.
+    pub call_dbs: HashMap<Origin, BlockName>,
     /// Global symbols by upper-case name.
     pub symbols: HashMap<String, SymbolInfo>,
     /// Per graph, per declared or predefined variable: its comment.
@@ -1091,18 +1093,26 @@ impl<'a> Gen<'a> {
                 .get(call.block as usize)
                 .cloned()
                 .ok_or_else(|| Error(format!("no block {}", call.block)))?;
-            let target = match (&block.symbol, self.opt.absolute) {
+            let mut target = match (&block.symbol, self.opt.absolute) {
                 (Some(sym), false) => self.sym(sym),
                 _ => format!("{} {}", block.kind, block.number),
             };
+            if let Some(idb) = self.names.call_dbs.get(&ins.origin).cloned() {
+                let idb = match (&idb.symbol, self.opt.absolute) {
+                    (Some(sym), false) => self.sym(sym),
+                    _ => format!("{} {}", idb.kind, idb.number),
+                };
+                target = format!("{target}, {idb}");
+            }
             if call.params.is_empty() || ins.op == Cc {
                 self.line(name, &target);
                 return Ok(());
             }
             let mut params = Vec::new();
             for (k, (formal, actual)) in call.params.iter().enumerate() {
+                // Read: a constant actual passes the member holding it.
                 let text =
-                    self.operand_text(L, actual, (ins.origin, k as u32 + 1), Access::Write)?;
+                    self.operand_text(L, actual, (ins.origin, k as u32 + 1), Access::Read)?;
                 params.push((formal.clone(), text));
             }
             let _ = writeln!(self.out, "      {name:<5} {target} (");

@@ -140,6 +140,12 @@ pub(super) fn group_source(
         literals: std::mem::take(&mut lw.names.literals),
         time_symbols: std::mem::take(&mut lw.names.time_symbols),
         blocks,
+        call_dbs: lw
+            .names
+            .call_dbs
+            .iter()
+            .filter_map(|(o, text)| Some((*o, block_name(index, text, mnemonic)?)))
+            .collect(),
         symbols,
         var_comments: HashMap::new(),
     };
