@@ -530,3 +530,40 @@ fn unencodable_comments_are_refused() {
         .unwrap_err();
     assert!(err.contains("U+2192"), "{err}");
 }
+
+#[test]
+fn max_group_generates_and_runs() {
+    let files = higraph_workload::max_group(1);
+    let mut data = WorkspaceData::default();
+    let mut groups = Vec::new();
+    for (path, text) in files {
+        for line in text.lines() {
+            if let Some(rest) = line.trim_start().strip_prefix("group ") {
+                groups.push(rest.split_whitespace().next().unwrap_or("").to_owned());
+            }
+        }
+        if path.ends_with(".higraph") {
+            data.files
+                .push((path, FileContents::from_bytes(text.into_bytes())));
+        } else if path == "higraph.toml" {
+            data.config = Some((path, FileContents::from_bytes(text.into_bytes())));
+        }
+    }
+    let mut host = AnalysisHost::new();
+    host.load(data);
+    for g in &groups {
+        let t = std::time::Instant::now();
+        let (_, bytes) = source(&host, g, &ABSOLUTE);
+        std::fs::write(
+            std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("max-group.awl"),
+            &bytes,
+        )
+        .unwrap();
+        eprintln!(
+            "{g}: {} bytes, {} lines in {:?}",
+            bytes.len(),
+            bytes.split(|&b| b == b'\n').count(),
+            t.elapsed()
+        );
+    }
+}

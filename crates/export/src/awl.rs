@@ -577,6 +577,10 @@ struct Gen<'a> {
     used_keys: HashSet<String>,
     /// The instance whose turn is being written.
     inst: u32,
+    /// The shared entries into states the turn jumps to (state → label).
+    entries: std::collections::BTreeMap<u16, String>,
+    /// The last statement left RLO = 1 and /FC = 0 (a following glue `SET` is redundant).
+    rlo_one: bool,
 }
 
 /// Generates the source of group `group` of `program`.
@@ -613,6 +617,8 @@ pub fn generate(
         used_symbols: Vec::new(),
         used_keys: HashSet::new(),
         inst: 0,
+        entries: std::collections::BTreeMap::new(),
+        rlo_one: false,
     };
     // The FC and the DB lead the symbol table; they are not listed again.
     for b in [&names.fc, &names.db] {
@@ -986,15 +992,23 @@ impl<'a> Gen<'a> {
     }
 
     fn line(&mut self, op: &str, operand: &str) {
+        self.rlo_one = false;
         self.out.push_str(&statement(op, operand));
     }
 
+    /// A glue statement. A `SET` is left out when the RLO is known to be 1 with /FC = 0
+    /// already (right after a `SET` and the `S`, `R`, `=` that follow it).
     fn g(&mut self, op: &'static str, operand: &str) {
-        let op = glue(op, self.opt.mnemonic);
-        self.line(op, operand);
+        if op == "SET" && self.rlo_one {
+            return;
+        }
+        let was = self.rlo_one;
+        self.line(glue(op, self.opt.mnemonic), operand);
+        self.rlo_one = op == "SET" || (was && matches!(op, "S" | "R" | "="));
     }
 
     fn put_label(&mut self, label: &str) {
+        self.rlo_one = false;
         let _ = writeln!(self.out, "{label}: NOP   0;");
     }
 
@@ -1115,6 +1129,7 @@ impl<'a> Gen<'a> {
                     self.operand_text(L, actual, (ins.origin, k as u32 + 1), Access::Read)?;
                 params.push((formal.clone(), text));
             }
+            self.rlo_one = false;
             let _ = writeln!(self.out, "      {name:<5} {target} (");
             let n = params.len();
             for (k, (formal, text)) in params.into_iter().enumerate() {
@@ -1148,6 +1163,7 @@ impl<'a> Gen<'a> {
         let m = self.opt.mnemonic;
         let _ = m;
         // Call start (§2.2, and Δ from the CPU clock).
+        self.rlo_one = false;
         let _ = writeln!(self.out, "NETWORK");
         let _ = writeln!(self.out, "TITLE = group call: clock, fresh DB, INIT_SD");
         let now = self.temp("HG_Now");
@@ -1155,6 +1171,7 @@ impl<'a> Gen<'a> {
         let last = self.glue_member("HG_Last");
         let init = self.glue_member("HG_Init");
         let fresh = self.temp("HG_Fresh");
+        self.rlo_one = false;
         let _ = writeln!(self.out, "      CALL  SFC 64 (");
         let _ = writeln!(
             self.out,
@@ -1232,6 +1249,7 @@ impl<'a> Gen<'a> {
     fn turn(&mut self) -> Result<(), Error> {
         let inst = &self.group.instances[self.inst as usize];
         let graph = self.graph(inst)?;
+        self.rlo_one = false;
         let _ = writeln!(self.out, "NETWORK");
         let title = match self.names.instance_comments.get(self.inst as usize) {
             Some(Some(c)) => format!("{} : {} \"{}\"", inst.name, graph.name, one_line(c)),
@@ -1274,9 +1292,9 @@ impl<'a> Gen<'a> {
         // Step 2: the initial entry.
         let d = graph.initial.unwrap_or(0);
         self.comment(&format!("fresh DB: initial entry into state {d}"));
+        self.save();
         self.enter_front(ChangeKind::Initial)?;
-        self.enter_state(graph, d)?;
-        self.g("SPA", &step8);
+        self.jump_to_entry(graph, Target::State(d), &step8);
         self.put_label(&not_fresh);
         // Step 3: any-transitions.
         let blk = self.temp("HG_Blk");
@@ -1373,9 +1391,9 @@ impl<'a> Gen<'a> {
             } else {
                 ChangeKind::Normal
             };
+            self.save();
             self.enter_front(kind)?;
-            self.enter_target(graph, t.to, &step8)?;
-            self.g("SPA", &step8);
+            self.jump_to_entry(graph, t.to, &step8);
         }
         for (fire, t, from) in state_firings {
             self.put_label(&fire);
@@ -1389,10 +1407,11 @@ impl<'a> Gen<'a> {
             if let Some(st) = graph.states.iter().find(|s| s.number == from) {
                 self.leave(st)?;
             }
+            self.save();
             self.enter_front(ChangeKind::Normal)?;
-            self.enter_target(graph, t.to, &step8)?;
-            self.g("SPA", &step8);
+            self.jump_to_entry(graph, t.to, &step8);
         }
+        self.entries(graph, &step8)?;
         // Step 8: C of the current state.
         self.put_label(&step8);
         let cyclic: Vec<&State> = graph
@@ -1408,6 +1427,46 @@ impl<'a> Gen<'a> {
         // Step 9.
         self.blocks(&graph.permanent_post, false, "permanent C")?;
         Ok(())
+    }
+
+    /// Inside a save: jumps by the state number in the WORD `var` to the label of its entry
+    /// in `targets`, or to `default`. A jump list (`SPL`) when every number is at most 255,
+    /// else a chain of comparisons.
+    fn jump_by_state(&mut self, var: &str, targets: &[(u16, String)], default: &str) {
+        let max = targets.iter().map(|t| t.0).max().unwrap_or(0);
+        if targets.is_empty() {
+            self.g("SPA", default);
+        } else if max <= 255 {
+            let list_end = self.label();
+            // As a DINT: the WORD zero-extended, so 32768.. is not negative.
+            self.g("L", var);
+            self.g("L", "L#255");
+            self.g(">D", "");
+            self.g("SPB", default);
+            self.g("L", var);
+            self.g("SPL", &list_end);
+            for n in 0..=max {
+                match targets.iter().find(|t| t.0 == n) {
+                    Some((_, l)) => {
+                        let l = l.clone();
+                        self.g("SPA", &l);
+                    }
+                    None => self.g("SPA", default),
+                }
+            }
+            let op = glue("SPA", self.opt.mnemonic);
+            self.rlo_one = false;
+            let _ = writeln!(self.out, "{list_end}: {op:<5} {default};");
+        } else {
+            for (n, l) in targets {
+                self.g("L", var);
+                self.g("L", &format!("L#{n}"));
+                self.g("==D", "");
+                let l = l.clone();
+                self.g("SPB", &l);
+            }
+            self.g("SPA", default);
+        }
     }
 
     /// Jumps by the state number in `var` to the code `body` writes for each of `states`,
@@ -1430,33 +1489,12 @@ impl<'a> Gen<'a> {
         let labels: Vec<String> = states.iter().map(|_| self.label()).collect();
         let dflt = self.label();
         self.save();
-        let max = states.iter().map(|s| s.number).max().unwrap_or(0);
-        if max <= 255 {
-            // As a DINT: the WORD zero-extended, so 32768.. is not negative.
-            self.g("L", var);
-            self.g("L", "L#255");
-            self.g(">D", "");
-            self.g("SPB", &dflt);
-            self.g("L", var);
-            self.g("SPL", &dflt);
-            for n in 0..=max {
-                match states.iter().position(|s| s.number == n) {
-                    Some(k) => {
-                        let l = labels[k].clone();
-                        self.g("SPA", &l);
-                    }
-                    None => self.g("SPA", &dflt),
-                }
-            }
-        } else {
-            for (k, st) in states.iter().enumerate() {
-                self.g("L", var);
-                self.g("L", &format!("L#{}", st.number));
-                self.g("==D", "");
-                let l = labels[k].clone();
-                self.g("SPB", &l);
-            }
-        }
+        let targets: Vec<(u16, String)> = states
+            .iter()
+            .zip(&labels)
+            .map(|(st, l)| (st.number, l.clone()))
+            .collect();
+        self.jump_by_state(var, &targets, &dflt);
         self.put_label(&dflt);
         self.restore();
         self.g("SPA", cont);
@@ -1531,22 +1569,26 @@ impl<'a> Gen<'a> {
             self.g("SPB", no);
         }
         if t.to == Target::Return {
-            // PreviousState must be a state of the graph.
+            // PreviousState must be a state of the graph: a jump list over its states.
             let prev = self.pv(Predef::PreviousState, Access::Read)?;
             let ht = self.temp("HG_T");
             let ok = self.temp("HG_Ok");
+            let (yes, done) = (self.label(), self.label());
             self.save();
             self.g("L", &prev);
             self.g("T", &ht);
             self.g("SET", "");
             self.g("R", &ok);
-            for st in &graph.states {
-                self.g("L", &ht);
-                self.g("L", &format!("L#{}", st.number));
-                self.g("==D", "");
-                self.g("O", &ok);
-                self.g("=", &ok);
-            }
+            let targets: Vec<(u16, String)> = graph
+                .states
+                .iter()
+                .map(|st| (st.number, yes.clone()))
+                .collect();
+            self.jump_by_state(&ht, &targets, &done);
+            self.put_label(&yes);
+            self.g("SET", "");
+            self.g("S", &ok);
+            self.put_label(&done);
             self.restore();
             self.g("SET", "");
             self.g("U", &ok);
@@ -1580,50 +1622,77 @@ impl<'a> Gen<'a> {
             ChangeKind::Initial => {
                 self.g("SET", "");
                 self.g("R", &sep);
-                self.save();
                 self.g("L", "0");
                 self.g("T", &prev);
-                self.restore();
             }
             ChangeKind::Startup => {
-                self.save();
                 self.g("L", &hs);
                 self.g("T", &prev);
-                self.restore();
             }
             ChangeKind::Normal => {
                 let se = self.pv(Predef::StExpired, Access::Read)?;
                 self.g("SET", "");
                 self.g("U", &se);
                 self.g("=", &sep);
-                self.save();
                 self.g("L", &hs);
                 self.g("T", &prev);
-                self.restore();
             }
         }
         Ok(())
     }
 
-    /// Entry into a transition's target (static, or by `#HG_T` for a return).
-    fn enter_target(&mut self, graph: &Graph, to: Target, step8: &str) -> Result<(), Error> {
+    /// Inside a save: jumps to the entry into a transition's target (by `#HG_T` for a
+    /// return), noting which entries the turn needs.
+    fn jump_to_entry(&mut self, graph: &Graph, to: Target, step8: &str) {
         match to {
-            Target::State(d) => self.enter_state(graph, d),
+            Target::State(d) => {
+                let l = self.entry_label(d);
+                self.g("SPA", &l);
+            }
             Target::Return => {
                 let ht = self.temp("HG_T");
-                let states: Vec<&State> = graph.states.iter().collect();
-                self.dispatch(&ht, &states, step8, |w, st| w.enter_state(graph, st.number))
+                let targets: Vec<(u16, String)> = graph
+                    .states
+                    .iter()
+                    .map(|st| (st.number, self.entry_label(st.number)))
+                    .collect();
+                let bad = self.label();
+                self.jump_by_state(&ht, &targets, &bad);
+                self.put_label(&bad);
+                self.restore();
+                self.g("SPA", step8);
             }
         }
     }
 
-    /// §2.5 step 4 for target `d` (CurrentState, StateChange, UsrMsgSend, times), then steps
-    /// 6–7 (`E`, `C-` with `precyclic_on_entry`); `#HG_C` := d.
+    /// The label of the shared entry into state `d` of the running turn.
+    fn entry_label(&mut self, d: u16) -> String {
+        if let Some(l) = self.entries.get(&d) {
+            return l.clone();
+        }
+        let l = self.label();
+        self.entries.insert(d, l.clone());
+        l
+    }
+
+    /// The shared entries of the turn: each starts inside a save, does §2.5 step 4 for its
+    /// state `d` (CurrentState, StateChange, UsrMsgSend, the times; `#HG_C` := d), restores,
+    /// runs steps 6–7 (`E`, `C-` with `precyclic_on_entry`) and continues at step 8.
+    fn entries(&mut self, graph: &Graph, step8: &str) -> Result<(), Error> {
+        let entries = std::mem::take(&mut self.entries);
+        for (d, label) in entries {
+            self.put_label(&label);
+            self.comment(&format!("entry into state {d}"));
+            self.enter_state(graph, d)?;
+            self.g("SPA", step8);
+        }
+        Ok(())
+    }
+
     fn enter_state(&mut self, graph: &Graph, d: u16) -> Result<(), Error> {
         let st = graph.states.iter().find(|s| s.number == d);
         let cs = self.pv(Predef::CurrentState, Access::Write)?;
         let hc = self.temp("HG_C");
-        self.save();
         self.g("L", &word_literal(d));
         self.g("T", &cs);
         self.g("T", &hc);
