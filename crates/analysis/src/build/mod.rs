@@ -18,7 +18,7 @@ use crate::{Analysis, Cancellable, Diagnostic, Severity, TextRange, TextSize, ch
 
 mod awl;
 mod plcopen;
-mod rules;
+pub(crate) mod rules;
 
 /// What `build` generates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
