@@ -224,10 +224,17 @@ fn python() -> Option<std::path::PathBuf> {
 /// cycle each instance's predefined variables (and own declared variables), the outputs and
 /// the bit memory.
 fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
-    differential_with(dir, None, group, seed, cycles)
+    differential_with(dir, None, group, seed, cycles, true)
 }
 
-fn differential_with(dir: &str, config: Option<&str>, group: &str, seed: u64, cycles: usize) {
+fn differential_with(
+    dir: &str,
+    config: Option<&str>,
+    group: &str,
+    seed: u64,
+    cycles: usize,
+    absolute: bool,
+) {
     let Some(python) = python() else {
         eprintln!("Awlsim's venv is missing (run scripts/awlsim-diff once): skipped");
         return;
@@ -244,24 +251,44 @@ fn differential_with(dir: &str, config: Option<&str>, group: &str, seed: u64, cy
     assert!(errors.is_empty(), "{dir}: {errors:#?}");
     let options = BuildOptions {
         with_ob1: true,
+        absolute,
         ..ABSOLUTE
     };
-    let (name, bytes) = source(&host, group, &options);
+    let (name, bytes, symbols) = host
+        .analysis()
+        .group_source(group, &options)
+        .expect("not cancelled")
+        .expect("the group exists")
+        .expect("the group generates");
     let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("build_awl");
     std::fs::create_dir_all(&out).unwrap();
     let intl = config.is_some_and(|c| c.contains("international"));
     let awl = out.join(format!(
-        "{}{}-{name}",
+        "{}{}{}-{name}",
         dir.replace('/', "_"),
-        if intl { "-intl" } else { "" }
+        if intl { "-intl" } else { "" },
+        if absolute { "" } else { "-symbolic" }
     ));
     std::fs::write(&awl, &bytes).unwrap();
+    let sdf = awl.with_extension("sdf");
+    std::fs::write(&sdf, higraph_export::sdf::write(&symbols).unwrap()).unwrap();
     let text = text(&bytes);
     let db: u32 = text
         .lines()
         .next()
-        .and_then(|l| l.strip_prefix("DATA_BLOCK DB "))
-        .and_then(|n| n.trim().parse().ok())
+        .and_then(|l| l.strip_prefix("DATA_BLOCK "))
+        .and_then(|n| {
+            let n = n.trim();
+            match n.strip_prefix("DB ") {
+                Some(n) => n.trim().parse().ok(),
+                // A symbol: its number from the symbol table.
+                None => symbols
+                    .iter()
+                    .find(|s| format!("\"{}\"", s.name) == n)
+                    .and_then(|s| s.address.strip_prefix("DB "))
+                    .and_then(|n| n.trim().parse().ok()),
+            }
+        })
         .expect("DATA_BLOCK DB n");
 
     let lowered = host.analysis().lower_workspace().unwrap();
@@ -336,8 +363,13 @@ fn differential_with(dir: &str, config: Option<&str>, group: &str, seed: u64, cy
     }
     let names: Vec<String> = fields.iter().map(|(n, _)| format!("\"{n}\"")).collect();
     let scenario = format!(
-        "{{\"awl\":{:?},\"mnemonics\":\"{}\",\"db\":{db},\"dt\":10,\"fields\":[{}],\"bytes\":[[\"A\",0,8],[\"M\",0,64]],\"cycles\":[{}]}}",
+        "{{\"awl\":{:?},\"sdf\":{:?},\"mnemonics\":\"{}\",\"db\":{db},\"dt\":10,\"fields\":[{}],\"bytes\":[[\"A\",0,8],[\"M\",0,64]],\"cycles\":[{}]}}",
         awl.to_string_lossy(),
+        if absolute {
+            String::new()
+        } else {
+            sdf.to_string_lossy().into_owned()
+        },
         if intl { "en" } else { "de" },
         names.join(","),
         cyc_json.join(",\n")
@@ -398,5 +430,20 @@ fn awlsim_international_mnemonics() {
         "Paar",
         21,
         300,
+        true,
+    );
+}
+
+#[test]
+fn awlsim_symbolic() {
+    // The symbolic sources with the symbol table `build` writes beside them.
+    differential_with("examples/drilling", None, "Bohrmaschine", 5, 300, false);
+    differential_with(
+        "crates/analysis/tests/build_awl/features",
+        None,
+        "Paar",
+        5,
+        300,
+        false,
     );
 }

@@ -613,6 +613,12 @@ pub fn generate(
         used_keys: HashSet::new(),
         inst: 0,
     };
+    // The FC and the DB lead the symbol table; they are not listed again.
+    for b in [&names.fc, &names.db] {
+        if let Some(sym) = &b.symbol {
+            w.used_keys.insert(sym.to_ascii_uppercase());
+        }
+    }
     w.prepare()?;
     let fc_body = w.fc_body()?;
     let mut text = String::new();

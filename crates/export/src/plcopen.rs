@@ -563,10 +563,7 @@ impl Writer {
             &format!("<relPosition x=\"{}\" y=\"{}\"/>", rel.0, rel.1),
         );
         if let Some(p) = from {
-            self.line(
-                indent + 1,
-                &format!("<connection refLocalId=\"{}\">", p.id),
-            );
+            self.line(indent + 1, &format!("<connection refLocalId=\"{}\">", p.id));
             self.line(
                 indent + 2,
                 &format!("<position x=\"{}\" y=\"{}\"/>", abs.0, abs.1),
@@ -647,12 +644,7 @@ impl Writer {
                     &format!("<actionBlock localId=\"{id}\" width=\"{ACTION_W}\" height=\"{h}\">"),
                 );
                 self.line(i + 1, &format!("<position x=\"{x}\" y=\"{y}\"/>"));
-                self.input(
-                    i + 1,
-                    (0, STEP_H / 2),
-                    (*x, y + STEP_H / 2),
-                    Some(*step),
-                );
+                self.input(i + 1, (0, STEP_H / 2), (*x, y + STEP_H / 2), Some(*step));
                 for (k, a) in actions.iter().enumerate() {
                     let aid = first_action + k as u64;
                     let mut open = format!(
@@ -669,10 +661,9 @@ impl Writer {
                         &format!("<relPosition x=\"0\" y=\"{}\"/>", ACTION_H * k as i64),
                     );
                     match &a.body {
-                        ActionBody::Reference(name) => self.line(
-                            i + 2,
-                            &format!("<reference name=\"{}\"/>", escape(name)),
-                        ),
+                        ActionBody::Reference(name) => {
+                            self.line(i + 2, &format!("<reference name=\"{}\"/>", escape(name)))
+                        }
                         ActionBody::Inline(st) => {
                             self.line(i + 2, "<inline>");
                             self.st_body(i + 3, st);
@@ -702,10 +693,7 @@ impl Writer {
                 self.input(i + 1, (TRANS_W / 2, 0), (x + TRANS_W / 2, *y), *input);
                 self.output(i + 1, "connectionPointOut", (TRANS_W / 2, TRANS_H), false);
                 self.line(i + 1, "<condition>");
-                self.line(
-                    i + 2,
-                    &format!("<inline name=\"{}\">", escape(&t.name)),
-                );
+                self.line(i + 2, &format!("<inline name=\"{}\">", escape(&t.name)));
                 self.st_body(i + 3, &t.condition);
                 self.line(i + 2, "</inline>");
                 self.line(i + 1, "</condition>");
@@ -801,10 +789,7 @@ pub fn write(project: &Project) -> Vec<u8> {
     w.line(1, "<contentHeader name=\"charts\">");
     w.line(2, "<coordinateInfo>");
     for lang in ["fbd", "ld", "sfc"] {
-        w.line(
-            3,
-            &format!("<{lang}><scaling x=\"1\" y=\"1\"/></{lang}>"),
-        );
+        w.line(3, &format!("<{lang}><scaling x=\"1\" y=\"1\"/></{lang}>"));
     }
     w.line(2, "</coordinateInfo>");
     w.line(1, "</contentHeader>");
@@ -878,6 +863,9 @@ mod tests {
 
     #[test]
     fn escapes_markup_and_drops_control_characters() {
-        assert_eq!(escape("a<b & \"c\">\u{1}"), "a&lt;b &amp; &quot;c&quot;&gt;");
+        assert_eq!(
+            escape("a<b & \"c\">\u{1}"),
+            "a&lt;b &amp; &quot;c&quot;&gt;"
+        );
     }
 }

@@ -24,8 +24,7 @@
 use std::collections::{HashMap, HashSet};
 
 use higraph_export::plcopen::{
-    ActionAssoc, ActionBody, Element, IecType, Pou, Project, Qualifier, Step, Transition,
-    Variable,
+    ActionAssoc, ActionBody, Element, IecType, Pou, Project, Qualifier, Step, Transition, Variable,
 };
 use higraph_syntax::{
     SyntaxKind,
@@ -264,7 +263,9 @@ impl Reader<'_, '_> {
                     Some(direct) if !action => direct,
                     direct => {
                         let doc = if direct.is_none() {
-                            Some(format!("STEP 7 address {display} has no IEC direct address"))
+                            Some(format!(
+                                "STEP 7 address {display} has no IEC direct address"
+                            ))
                         } else {
                             None
                         };
@@ -1134,7 +1135,10 @@ mod tests {
             }
         }
         let mut singles: Vec<PathBuf> = Vec::new();
-        for dir in ["crates/analysis/test_data/plcopen", "crates/analysis/test_data/rules"] {
+        for dir in [
+            "crates/analysis/test_data/plcopen",
+            "crates/analysis/test_data/rules",
+        ] {
             let mut stack = vec![root().join(dir)];
             while let Some(d) = stack.pop() {
                 for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {

@@ -118,6 +118,10 @@ pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
     }
 
     let items = items_text(result.groups, result.charts);
+    if let Some(why) = &result.failure {
+        let _ = writeln!(io::stderr(), "error: nothing built: {why}");
+        return Ok(ExitCode::from(EXIT_FAILURE));
+    }
     if !result.refused.is_empty() {
         let files = result
             .refused

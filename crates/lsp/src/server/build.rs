@@ -115,6 +115,14 @@ pub(crate) fn build(
         }
     };
     let items = crate::build::items_text(result.groups, result.charts);
+    if let Some(why) = &result.failure {
+        return Ok(BuildAnswer {
+            files: Vec::new(),
+            unchanged: Vec::new(),
+            refused: true,
+            message: format!("nothing built: {why}"),
+        });
+    }
     if !result.refused.is_empty() {
         let first = result
             .checked
