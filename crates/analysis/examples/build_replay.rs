@@ -2,7 +2,7 @@
 //! (`export.md` §5, `scripts/build-diff`, `docs/build.md` "How the generated code is proven").
 //!
 //! `cargo run -p higraph-analysis --example build_replay -- --out DIR [--cycles N]
-//! [--workload-cycles N] [--seed S] [--only NAME]`
+//! [--workload-cycles N] [--seed S] [--only NAME] [--workspace DIR]...`
 //!
 //! For every workspace it covers — each folder of `examples/`, and the generated workloads
 //! `max-group` and `plant` (seed 1) — it builds the AWL target with `--absolute` semantics
@@ -51,6 +51,8 @@ struct Args {
     workload_cycles: u64,
     seed: u64,
     only: Option<String>,
+    /// Extra workspaces (`--workspace DIR`), treated like the examples.
+    extra: Vec<PathBuf>,
 }
 
 fn args() -> Result<Args, String> {
@@ -60,6 +62,7 @@ fn args() -> Result<Args, String> {
         workload_cycles: 12,
         seed: 1,
         only: None,
+        extra: Vec::new(),
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -74,6 +77,7 @@ fn args() -> Result<Args, String> {
             "--workload-cycles" => a.workload_cycles = num(&v)?,
             "--seed" => a.seed = num(&v)?,
             "--only" => a.only = Some(v),
+            "--workspace" => a.extra.push(PathBuf::from(v)),
             _ => return Err(format!("unknown argument {k}")),
         }
     }
@@ -89,7 +93,7 @@ fn main() {
         Err(e) => {
             eprintln!(
                 "build_replay: {e}\nusage: build_replay --out DIR [--cycles N] \
-                 [--workload-cycles N] [--seed S] [--only WORKSPACE]"
+                 [--workload-cycles N] [--seed S] [--only WORKSPACE] [--workspace DIR]..."
             );
             std::process::exit(2);
         }
@@ -117,6 +121,12 @@ fn main() {
             example_files(&root.join("examples").join(&name)),
             true,
         ));
+    }
+    for dir in &a.extra {
+        let name = dir
+            .file_name()
+            .map_or_else(|| "workspace".into(), |n| n.to_string_lossy().into_owned());
+        workspaces.push((name, example_files(dir), true));
     }
     workspaces.push(("max-group".into(), higraph_workload::max_group(1), false));
     workspaces.push(("plant".into(), higraph_workload::plant(1), false));
@@ -268,9 +278,16 @@ fn determinism(name: &str, a: &Built, b: &Built, secrets: &[String], out: &mut S
     let (Ok(a), Ok(b)) = (a, b) else {
         if a.is_ok() != b.is_ok() {
             let _ = writeln!(out, "{name}: one build went through, the other did not");
+        } else if let Err(e) = a {
+            println!("determinism: {name}: not built ({e})");
         }
         return;
     };
+    println!(
+        "determinism: {name}: {} files, {} bytes, built twice",
+        a.len(),
+        a.values().map(Vec::len).sum::<usize>()
+    );
     if a.keys().ne(b.keys()) {
         let _ = writeln!(out, "{name}: the two builds wrote different file lists");
     }
