@@ -3,6 +3,7 @@
 //! `main` only dispatches; the subcommands live in [`cli`], the language server in
 //! [`server`].
 
+mod build;
 mod cli;
 mod server;
 mod testing;

@@ -2,6 +2,7 @@
 //! subcommand. Every subcommand returns an exit status; a [`CliError`] is a usage error or
 //! unreadable input and ends with status 2 and a message on stderr, never a panic.
 
+mod build;
 mod check;
 mod explain;
 // `fmt` itself would clash with `std::fmt`.
@@ -61,6 +62,56 @@ enum Command {
     Render(RenderArgs),
     /// Run the `test` items of a workspace on the simulated machine.
     Test(TestArgs),
+    /// Generate STEP 7 sources for the graph groups and PLCopen XML for the charts.
+    #[command(long_about = BUILD_ABOUT)]
+    Build(BuildArgs),
+}
+
+const BUILD_ABOUT: &str = "\
+Generate STEP 7 sources for the graph groups and PLCopen XML for the charts.
+
+The workspace is analysed as `check` analyses it. If the groups or charts to build, or what \
+they use (the graphs of their instances, symbol tables, block interfaces), have errors, \
+nothing is written: the diagnostics are printed and the exit status is 1. Otherwise each \
+group becomes `<group>.awl`, all charts of the run one `charts.xml`, and the symbols the \
+sources use `symbols.sdf`. Files whose contents would not change are not rewritten; other \
+files in the output folder are left alone. Exit status: 0 built, 1 errors in the input, 2 \
+usage or I/O error.";
+
+/// Arguments of `higraph-lsp build`.
+#[derive(Debug, Args)]
+pub(crate) struct BuildArgs {
+    /// Files or folders whose groups and charts are built (default: the whole workspace); the
+    /// workspace is found as `check` finds it, from the first PATH or the current folder.
+    #[arg(value_name = "PATH")]
+    pub paths: Vec<PathBuf>,
+    /// What to generate.
+    #[arg(long, value_enum, default_value_t = BuildTarget::Awl)]
+    pub target: BuildTarget,
+    /// Write into this folder (created if needed) instead of `build/` in the workspace root.
+    /// It is never analysed afterwards; it must not be the workspace root or hold its
+    /// sources.
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    pub output: Option<PathBuf>,
+    /// Also generate an organization block OB 1 that calls each group's FC, with INIT_SD set
+    /// in the first cycle after a restart.
+    #[arg(long)]
+    pub with_ob1: bool,
+    /// Use absolute addresses and block numbers instead of symbols, and write no
+    /// `symbols.sdf` (for tools that cannot import a symbol table, such as Awlsim).
+    #[arg(long)]
+    pub absolute: bool,
+}
+
+/// What `build` generates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum BuildTarget {
+    /// STEP 7 sources (`<group>.awl`) for the graph groups.
+    Awl,
+    /// one PLCopen XML document (`charts.xml`) for the charts.
+    Plcopen,
+    /// both.
+    All,
 }
 
 /// Arguments of `higraph-lsp test`.
@@ -262,6 +313,7 @@ pub fn run() -> ExitCode {
         Some(Command::Explain(args)) => explain::run(&args),
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Test(args)) => test::run(&args),
+        Some(Command::Build(args)) => build::run(&args),
         Some(Command::Lsp(_)) | None => {
             // Someone typed `higraph-lsp` in a terminal: say what this is. The server still
             // runs (an editor never starts it on a terminal).

@@ -4,8 +4,9 @@
 //! * The root is the nearest folder upwards from the first PATH (a file PATH: its folder)
 //!   that holds `higraph.toml`, else that folder itself.
 //! * The workspace's files are the `*.higraph` entries below the root, skipping hidden
-//!   entries (names starting with `.`), `node_modules` folders and the root's `target`
-//!   folder. Symbolic links to files are listed, links to folders are not followed (no
+//!   entries (names starting with `.`), `node_modules` folders, the root's `target` and
+//!   `build` folders and every folder holding the marker [`OUTPUT_MARKER`] (the output
+//!   folders of `higraph-lsp build`). Symbolic links to files are listed, links to folders are not followed (no
 //!   cycles). A folder, FIFO or other special file named `*.higraph` counts as a file, which
 //!   then cannot be read (HG6103).
 //! * Files named explicitly on the command line are always part of the workspace, whatever
@@ -42,6 +43,12 @@ pub(crate) use read::{
 pub(crate) const CONFIG_FILE: &str = "higraph.toml";
 /// The extension of HiGraph source files.
 pub(crate) const EXTENSION: &str = "higraph";
+/// The file `higraph-lsp build` leaves in its output folder: the walk never enters a folder
+/// holding it, so generated files are never analysed as sources.
+pub(crate) const OUTPUT_MARKER: &str = ".higraph-build";
+/// The default output folder of `higraph-lsp build`, in the workspace root (skipped by the
+/// walk like `target`).
+pub(crate) const BUILD_FOLDER: &str = "build";
 
 /// A problem that stops loading a workspace: a PATH that does not exist, an unreadable root
 /// or configuration file. The command line reports it with exit status 2.
@@ -245,6 +252,11 @@ pub(crate) fn walk_finds(root: &Path, path: &Path) -> bool {
             .is_some_and(|folder| folder == root || covered_by_root_walk(root, folder))
 }
 
+/// Whether `folder` is an output folder of `higraph-lsp build` (it holds the marker).
+pub(crate) fn is_output_folder(folder: &Path) -> bool {
+    fs::symlink_metadata(folder.join(OUTPUT_MARKER)).is_ok()
+}
+
 /// Whether the walk from the root already visited every file under `folder`.
 fn covered_by_root_walk(root: &Path, folder: &Path) -> bool {
     let Ok(relative) = folder.strip_prefix(root) else {
@@ -257,12 +269,18 @@ fn covered_by_root_walk(root: &Path, folder: &Path) -> bool {
             Component::Normal(name) => !is_skipped(&name.to_string_lossy(), depth == 0),
             _ => false,
         })
+        && !folder
+            .ancestors()
+            .take_while(|ancestor| *ancestor != root)
+            .any(is_output_folder)
 }
 
 /// Whether the walk skips an entry of this name. `at_root`: the entry is directly in the
 /// folder the walk started from.
 fn is_skipped(name: &str, at_root: bool) -> bool {
-    name.starts_with('.') || name == "node_modules" || (at_root && name == "target")
+    name.starts_with('.')
+        || name == "node_modules"
+        || (at_root && (name == "target" || name == BUILD_FOLDER))
 }
 
 struct Walk {
@@ -306,7 +324,7 @@ impl Walk {
             if is_source {
                 // A folder or broken link named `*.higraph` is a file that cannot be read.
                 self.files.insert(path);
-            } else if file_type.is_dir() {
+            } else if file_type.is_dir() && !is_output_folder(&path) {
                 self.folder(&path, root);
             }
         }
@@ -412,6 +430,8 @@ mod tests {
         assert!(is_skipped("node_modules", false));
         assert!(is_skipped("target", true));
         assert!(!is_skipped("target", false));
+        assert!(is_skipped("build", true));
+        assert!(!is_skipped("build", false));
         assert!(!is_skipped("graphs", true));
     }
 
@@ -422,6 +442,8 @@ mod tests {
         assert!(walk_finds(root, Path::new("/ws/graphs/b.higraph")));
         assert!(walk_finds(root, Path::new("/ws/graphs/target/b.higraph")));
         assert!(!walk_finds(root, Path::new("/ws/target/b.higraph")));
+        assert!(!walk_finds(root, Path::new("/ws/build/b.higraph")));
+        assert!(walk_finds(root, Path::new("/ws/graphs/build/b.higraph")));
         assert!(!walk_finds(root, Path::new("/ws/.git/b.higraph")));
         assert!(!walk_finds(root, Path::new("/ws/.b.higraph")));
         assert!(!walk_finds(root, Path::new("/ws/graphs/b.txt")));
