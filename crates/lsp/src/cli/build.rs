@@ -92,12 +92,13 @@ pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
     };
 
     // The diagnostics, as `check` prints them.
-    let file_id = |path: &str| {
-        files
-            .iter()
-            .position(|f| f.path == path)
-            .map(|i| FileId(i as u32))
-    };
+    let ids: std::collections::HashMap<&str, FileId> = files
+        .iter()
+        .enumerate()
+        .rev() // the first file of a path wins
+        .map(|(i, f)| (f.path.as_str(), FileId(i as u32)))
+        .collect();
+    let file_id = |path: &str| ids.get(path).copied();
     let reported: Vec<Reported> = result
         .checked
         .iter()
