@@ -74,6 +74,9 @@ pub struct BuildResult {
     /// tables, `higraph.toml`), by workspace path, in workspace order: what `build` prints
     /// besides [`BuildResult::diagnostics`]. The errors among them stop the build.
     pub checked: Vec<(String, Diagnostic)>,
+    /// Why the files could not be generated although no diagnostic stopped the build (a bug
+    /// guard: the rules refuse such input first); the file concerned is in `refused`.
+    pub failure: Option<String>,
 }
 
 /// A group or chart a build can cover (for "Build this group/chart").
@@ -178,9 +181,12 @@ fn build_item(
         ..*options
     };
     let item = [(found.file, found.item)];
-    let (groups, charts): (&[(File, u32)], &[(File, u32)]) =
-        if chart { (&[], &item) } else { (&item, &[]) };
-    run(db, ws, groups, charts, &[found.file], &options)
+    let none: &[(File, u32)] = &[];
+    if chart {
+        run(db, ws, none, &item, &[found.file], &options)
+    } else {
+        run(db, ws, &item, none, &[found.file], &options)
+    }
 }
 
 fn build_items(db: &dyn salsa::Database, _ws: Workspace, file: File) -> Vec<BuildItem> {
@@ -282,8 +288,9 @@ fn run(
     if refused.is_empty() {
         match generate(db, ws, groups, charts, options) {
             Ok(files) => result.files = files,
-            Err(file) => {
+            Err((file, why)) => {
                 refused.insert(file);
+                result.failure = Some(why);
             }
         }
     }
@@ -299,24 +306,27 @@ fn run(
 }
 
 /// The generated files: one source per group (build order), the charts' document, the symbol
-/// table. `Err` names the file of a group the generator could not lower (a bug guard: errors
-/// are refused before).
+/// table. `Err` names the file of a group the generator could not write, and why (a bug
+/// guard: errors are refused before).
 fn generate(
     db: &dyn salsa::Database,
     ws: Workspace,
     groups: &[(File, u32)],
     charts: &[(File, u32)],
     options: &BuildOptions,
-) -> Result<Vec<BuildFile>, File> {
+) -> Result<Vec<BuildFile>, (File, String)> {
     let mut files = Vec::new();
     let mut names: HashSet<String> = HashSet::new();
     let mut symbols: Vec<higraph_export::sdf::Symbol> = Vec::new();
     for &(file, item) in groups {
-        let source = awl::group_source(db, ws, file, item, options).ok_or(file)?;
+        let source = awl::group_source(db, ws, file, item, options).map_err(|why| (file, why))?;
         // Two files whose names differ only in letter case would be one file on some
         // systems; group names are unique case-insensitively, so this is a bug guard too.
         if !names.insert(source.file_name.to_ascii_uppercase()) {
-            return Err(file);
+            return Err((
+                file,
+                format!("two groups would both write {}", source.file_name),
+            ));
         }
         symbols.extend(source.symbols);
         files.push(BuildFile {
@@ -330,10 +340,12 @@ fn generate(
             bytes: plcopen::charts_xml(db, ws, charts),
         });
     }
-    if !groups.is_empty() && !options.absolute {
+    if let (Some(&(file, _)), false) = (groups.first(), options.absolute) {
+        let bytes = higraph_export::sdf::write(&symbol_union(symbols))
+            .map_err(|why| (file, format!("{SYMBOLS_FILE}: {why}")))?;
         files.push(BuildFile {
             name: SYMBOLS_FILE.to_owned(),
-            bytes: higraph_export::sdf::write(&symbol_union(symbols)),
+            bytes,
         });
     }
     Ok(files)
@@ -355,21 +367,24 @@ struct Region {
     whole: bool,
     /// Diagnostics outside every item of the file (a file the build covers).
     outside_items: bool,
-    /// The items' ranges (absolute).
+    /// The items' ranges (absolute, in text order).
     items: Vec<TextRange>,
-    /// All items' ranges, sorted, when `outside_items`.
+    /// All items' ranges in text order, when `outside_items`.
     all_items: Vec<TextRange>,
 }
 
 impl Region {
+    /// Item ranges are in text order and do not overlap, so the item that may hold a range is
+    /// found by binary search (a file of many items and many diagnostics stays fast).
     fn covers(&self, range: TextRange) -> bool {
+        let holder = |items: &[TextRange]| {
+            let after = items.partition_point(|item| item.start() <= range.start());
+            after.checked_sub(1).and_then(|i| items.get(i)).copied()
+        };
         self.whole
-            || self.items.iter().any(|item| item.contains_range(range))
+            || holder(&self.items).is_some_and(|item| item.contains_range(range))
             || (self.outside_items
-                && !self
-                    .all_items
-                    .iter()
-                    .any(|item| item.contains(range.start())))
+                && !holder(&self.all_items).is_some_and(|item| item.contains(range.start())))
     }
 }
 
@@ -449,6 +464,29 @@ fn regions(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn regions_cover_their_items_and_what_lies_outside_every_item() {
+        let r = |a: u32, b: u32| TextRange::new(TextSize::from(a), TextSize::from(b));
+        let region = Region {
+            items: vec![r(10, 20), r(40, 50)],
+            outside_items: true,
+            all_items: vec![r(10, 20), r(25, 35), r(40, 50)],
+            ..Region::default()
+        };
+        assert!(region.covers(r(12, 14)));
+        assert!(region.covers(r(40, 50)));
+        assert!(!region.covers(r(18, 22)), "runs out of its item");
+        assert!(!region.covers(r(26, 30)), "in an item that is not built");
+        assert!(region.covers(r(21, 23)), "between items");
+        assert!(region.covers(r(0, 1)), "before every item");
+        assert!(region.covers(r(60, 61)), "after every item");
+        let whole = Region {
+            whole: true,
+            ..Region::default()
+        };
+        assert!(whole.covers(r(26, 30)));
+    }
 
     #[test]
     fn paths_select_files_and_folders() {

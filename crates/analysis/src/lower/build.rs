@@ -37,6 +37,8 @@ pub(crate) struct Lowerer<'a> {
     blocks: HashMap<String, BlockId>,
     /// External references of charts by upper-case text: one cell each.
     pub externals: HashMap<String, CellId>,
+    /// What `build` needs to write names as the text did (`names.rs`).
+    pub names: super::names::LowerNames,
 }
 
 impl<'a> Lowerer<'a> {
@@ -51,6 +53,7 @@ impl<'a> Lowerer<'a> {
             graph_meta: Vec::new(),
             blocks: HashMap::new(),
             externals: HashMap::new(),
+            names: Default::default(),
         }
     }
 
@@ -116,6 +119,8 @@ impl<'a> Lowerer<'a> {
                 scope,
                 item: loc,
                 mnemonic,
+                slot: None,
+                time_slot: None,
             };
             gl.graph(&graph)
         };
@@ -188,7 +193,8 @@ impl<'a> Lowerer<'a> {
         let graph_ids: Vec<u32> = instances.iter().map(|(_, i, _)| i.graph).collect();
         let mut internal: Vec<InternalMessage> = Vec::new();
         let mut internal_cells = std::collections::HashSet::new();
-        for (node, instance, graph) in &mut instances {
+        let mut actual_symbols = HashMap::new();
+        for (index, (node, instance, graph)) in instances.iter_mut().enumerate() {
             let Some(meta) = graph.map(|g| &self.graph_meta[g]) else {
                 continue;
             };
@@ -236,7 +242,10 @@ impl<'a> Lowerer<'a> {
                         })
                     }
                     other => match actuals::resolve(&mut ctx, other) {
-                        ActualValue::Symbol(s) => s.address.as_ref().and_then(values::place),
+                        ActualValue::Symbol(s) => {
+                            actual_symbols.insert((index as u32, var as VarIdx), s.name.clone());
+                            s.address.as_ref().and_then(values::place)
+                        }
                         ActualValue::Address(a) => values::place(&a),
                         ActualValue::Constant(lit) => values::value_in(&lit, ty).map(Place::Const),
                         ActualValue::Message | ActualValue::Unknown => None,
@@ -268,6 +277,20 @@ impl<'a> Lowerer<'a> {
                 }
             }
         }
+        self.names.group_own.push(
+            own.iter()
+                .map(|places| {
+                    places
+                        .iter()
+                        .map(|p| match p {
+                            Place::Cell(c) => *c,
+                            _ => CellId::MAX,
+                        })
+                        .collect()
+                })
+                .collect(),
+        );
+        self.names.actual_symbols.push(actual_symbols);
         self.program.groups.push(Group {
             name: group.name().map(|n| n.text()).unwrap_or_default(),
             options,

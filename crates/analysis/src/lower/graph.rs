@@ -74,6 +74,10 @@ pub(crate) struct GraphLowering<'l, 'a> {
     pub scope: GraphScope,
     pub item: ItemLoc<'a>,
     pub mnemonic: Mnemonic,
+    /// The operand being resolved, for the names side table (`names.rs`).
+    pub slot: Option<super::names::Slot>,
+    /// The `wait` (false) or `supervise` (true) value of a state being resolved.
+    pub time_slot: Option<(u16, bool)>,
 }
 
 impl GraphLowering<'_, '_> {
@@ -91,6 +95,24 @@ impl GraphLowering<'_, '_> {
         };
         let resolved = resolve::resolve_operand(&mut self.ctx, &mut self.scope, operand, usage);
         self.ctx.out.diags.clear();
+        if let Some(slot) = self.slot.take() {
+            match &resolved.target {
+                Some(RTarget::Symbol(s)) => {
+                    self.lw.names.operand_symbols.insert(slot, s.name.clone());
+                }
+                Some(RTarget::Constant(_)) => {
+                    let text: String = operand
+                        .syntax()
+                        .text()
+                        .to_string()
+                        .chars()
+                        .filter(|c| !c.is_whitespace())
+                        .collect();
+                    self.lw.names.literals.insert(slot, text);
+                }
+                _ => {}
+            }
+        }
         match resolved.target {
             Some(RTarget::Var(i)) => (Operand::Var(PREDEFS + i as VarIdx), None),
             Some(RTarget::Predefined(p)) => (
@@ -133,6 +155,15 @@ impl GraphLowering<'_, '_> {
         };
         let resolved = resolve::resolve_operand(&mut self.ctx, &mut self.scope, operand, usage);
         self.ctx.out.diags.clear();
+        if let (Some(RTarget::Symbol(s)), Some((number, supervise))) =
+            (&resolved.target, self.time_slot.take())
+        {
+            let graph = self.lw.program.graphs.len() as u32;
+            self.lw
+                .names
+                .time_symbols
+                .insert((graph, number, supervise), s.name.clone());
+        }
         let operand = match resolved.target? {
             RTarget::Var(i) => Operand::Var(PREDEFS + i as VarIdx),
             RTarget::Predefined(p) => Operand::Var(predef_index(p.name)?),
@@ -162,10 +193,13 @@ impl GraphLowering<'_, '_> {
                 .unwrap_or_else(|| opcode_node.syntax().text_range());
             let origin = self.origin(range);
             let (operand, constant) = if op == "CALL" || op == "CC" {
-                (self.call(&stmt), None)
+                (self.call(&stmt, origin), None)
             } else {
                 match stmt.operand() {
-                    Some(operand) => self.operand(&operand, &op),
+                    Some(operand) => {
+                        self.slot = Some((origin, 0));
+                        self.operand(&operand, &op)
+                    }
                     None => (Operand::None, None),
                 }
             };
@@ -186,7 +220,7 @@ impl GraphLowering<'_, '_> {
     }
 
     /// The operand of `CALL`/`CC`: the block and its parameters.
-    fn call(&mut self, stmt: &ast::StlStmt) -> Operand {
+    fn call(&mut self, stmt: &ast::StlStmt, origin: Origin) -> Operand {
         let Some(args) = stmt.call_args() else {
             return Operand::None;
         };
@@ -196,13 +230,28 @@ impl GraphLowering<'_, '_> {
         let Some(block) = self.lw.block_of_ref(&target, self.mnemonic) else {
             return Operand::None;
         };
+        if let Some(idb) = args.blocks().nth(1) {
+            let text = if let Some(address) = idb.address() {
+                address.compact_text()
+            } else if let Some(name) = idb.name_ref() {
+                name.text()
+            } else if let Some(symbol) = idb.symbol_ref() {
+                symbol.name()
+            } else {
+                String::new()
+            };
+            self.lw.names.call_dbs.insert(origin, text);
+        }
         let mut params = Vec::new();
         for param in args.params() {
             let Some(formal) = param.formal() else {
                 continue;
             };
             let actual = match param.value() {
-                Some(value) => self.operand(&value, "CALL").0,
+                Some(value) => {
+                    self.slot = Some((origin, params.len() as u32 + 1));
+                    self.operand(&value, "CALL").0
+                }
                 None => Operand::None,
             };
             params.push((formal.text(), actual));
@@ -415,11 +464,13 @@ impl GraphLowering<'_, '_> {
                 }
                 ast::BodyItem::Wait(wait) => {
                     if out.wait.is_none() {
+                        self.time_slot = Some((number, false));
                         out.wait = wait.value().and_then(|v| self.time_value(&v));
                     }
                 }
                 ast::BodyItem::Supervise(supervise) => {
                     if out.supervise.is_none() {
+                        self.time_slot = Some((number, true));
                         out.supervise = supervise.value().and_then(|v| self.time_value(&v));
                     }
                 }

@@ -31,10 +31,12 @@ mod build;
 mod chart;
 mod dump;
 mod graph;
+mod names;
 mod paths;
 mod test;
 mod values;
 
+pub(crate) use build::Lowerer;
 pub use build::dump;
 pub use paths::SegmentDef;
 pub(crate) use paths::{PathTarget, Resolution, RunScope, ScopeChart, block_key, run_list};

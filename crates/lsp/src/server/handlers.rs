@@ -352,8 +352,6 @@ pub(crate) fn code_action(
     // Kinds are hierarchical: `quickfix` is asked for by `quickfix` (or the empty kind, the
     // root), not by a sub-kind such as `quickfix.foo` or by `refactor`. The build actions
     // have no kind: only a request without `only` gets them.
-    let range = convert::text_range(&index, params.range, snapshot.encoding);
-    let mut response = Vec::new();
     if let Some(only) = &params.context.only {
         let quickfix = lsp::CodeActionKind::QUICKFIX;
         if !only
@@ -362,10 +360,10 @@ pub(crate) fn code_action(
         {
             return Ok(Some(Vec::new()));
         }
-    } else {
-        response.extend(super::build::code_actions(snapshot, &path, range)?);
     }
+    let range = convert::text_range(&index, params.range, snapshot.encoding);
     let actions = snapshot.analysis.code_actions(&path, range)?;
+    let mut response = Vec::new();
     for action in actions {
         let diagnostic_range = action
             .diagnostic_range
@@ -397,6 +395,9 @@ pub(crate) fn code_action(
             diagnostics,
             edit,
         )));
+    }
+    if params.context.only.is_none() {
+        response.extend(super::build::code_actions(snapshot, &path, range)?);
     }
     Ok(Some(response))
 }
