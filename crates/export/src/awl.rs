@@ -1866,6 +1866,8 @@ impl<'a> Gen<'a> {
                     .names
                     .var_comments
                     .get(&(inst.graph, v as VarIdx))
+                    .map(String::as_str)
+                    .or_else(|| Predef::ALL.get(v).map(|p| predef_comment(*p)))
                     .map(|c| format!("\t//{}", one_line(c)))
                     .unwrap_or_default();
                 match &init {
@@ -2032,6 +2034,30 @@ enum ChangeKind {
     Initial,
     Startup,
     Normal,
+}
+
+/// What a predefined variable's DB member holds (`runtime.md` §2.7).
+fn predef_comment(p: Predef) -> &'static str {
+    match p {
+        Predef::ManualMode => "manual transitions allowed",
+        Predef::AutomaticMode => "automatic transitions allowed",
+        Predef::UsrMsgQuit => "acknowledgement (no effect)",
+        Predef::InitSd => "copy of the FC input INIT_SD",
+        Predef::CurrentState => "current state number",
+        Predef::PreviousState => "state before the last change",
+        Predef::StateChange => "1 in the cycle of a change",
+        Predef::StExpired => "supervision time ran out",
+        Predef::StExpiredPrev => "ST_Expired when the previous state was left",
+        Predef::WtExpired => "wait time ran out",
+        Predef::StStop => "pause the supervision time",
+        Predef::WtStop => "pause the wait time",
+        Predef::StCurrValue => "supervision time left (ms)",
+        Predef::WtCurrValue => "wait time left (ms)",
+        Predef::StValid => "a supervision time runs",
+        Predef::WtValid => "a wait time runs",
+        Predef::UsrMsgSend => "the state is a fault or message state",
+        Predef::UsrMsgStat => "always 0",
+    }
 }
 
 /// Separates an absolute operand from the name it stands for (written as a comment).
