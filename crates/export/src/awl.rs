@@ -50,6 +50,12 @@
 //!   on a byte, 16- and 32-bit types and structures on an even byte, a structure's size even)
 //!   are applied, and a structure of odd size gets an explicit `HG_Pad` byte so that Awlsim
 //!   (which does not round a structure's size) lays the DB out the same way.
+//!
+//! Known differences from the simulator, none observable by a test or by the proof harness:
+//! the `NOT` around a timer or counter operation in the RLO-0 pass also sets STA (which the
+//! HiGraph subset cannot read); `FP`/`FN` on a formal wired to a constant, and a `CALL` output
+//! wired to such a formal, write the member that holds the constant (the simulator discards
+//! those writes).
 
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::fmt::Write as _;
