@@ -312,7 +312,7 @@ fn generate(
     let mut names: HashSet<String> = HashSet::new();
     let mut symbols: Vec<higraph_export::sdf::Symbol> = Vec::new();
     for &(file, item) in groups {
-        let source = awl::group_source(db, ws, file, item, options).ok_or(file)?;
+        let source = awl::group_source(db, ws, file, item, options).map_err(|_| file)?;
         // Two files whose names differ only in letter case would be one file on some
         // systems; group names are unique case-insensitively, so this is a bug guard too.
         if !names.insert(source.file_name.to_ascii_uppercase()) {
@@ -333,7 +333,7 @@ fn generate(
     if !groups.is_empty() && !options.absolute {
         files.push(BuildFile {
             name: SYMBOLS_FILE.to_owned(),
-            bytes: higraph_export::sdf::write(&symbol_union(symbols)),
+            bytes: higraph_export::sdf::write(&symbol_union(symbols)).map_err(|_| groups[0].0)?,
         });
     }
     Ok(files)
