@@ -4,6 +4,8 @@
 #[path = "lsp/client.rs"]
 mod client;
 
+#[path = "lsp/build.rs"]
+mod build;
 #[path = "lsp/diagnostics.rs"]
 mod diagnostics;
 #[path = "lsp/features.rs"]

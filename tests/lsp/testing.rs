@@ -89,7 +89,7 @@ fn the_lens_runs_a_test_whose_failures_are_published_until_an_edit() {
     let capabilities = &result["capabilities"];
     assert_eq!(
         capabilities["executeCommandProvider"]["commands"],
-        json!(["higraph.runTest"]),
+        json!(["higraph.runTest", "higraph.build"]),
         "{result}"
     );
     assert!(capabilities["codeLensProvider"].is_object(), "{result}");

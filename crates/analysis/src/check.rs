@@ -235,6 +235,46 @@ pub fn file_diagnostics(
     out
 }
 
+/// Converts diagnostics found outside `check` (the HG81xx of `build`) like a file's own: the
+/// configured severities (a rule set to "off" is dropped), inline suppressions (§1.4b) and
+/// absolute ranges; each with its file.
+pub(crate) fn convert_extra(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    diags: &[Diag],
+) -> Vec<(File, Diagnostic)> {
+    let ids = &output_file_table(db, ws).ids;
+    let config = ws.config(db);
+    // The `higraph-allow` comments of each file, read once per file that has some.
+    let mut allows: HashMap<File, Option<(Vec<suppress::Allow>, LineIndex)>> = HashMap::new();
+    let mut out = Vec::new();
+    for diag in diags {
+        let code = diag.code.as_str();
+        let Some(severity) = config.severity(code) else {
+            continue;
+        };
+        let file = diag.at.file;
+        let range = db::absolute_range(db, &diag.at);
+        let file_allows = allows.entry(file).or_insert_with(|| {
+            let contents = file.contents(db);
+            let text = contents.text();
+            if !suppress::may_allow(text) {
+                return None;
+            }
+            let line_index = LineIndex::new(text);
+            let (allows, _) = suppress::allows(text, db::parse(db, file), &line_index);
+            Some((allows, line_index))
+        });
+        if let Some((allows, line_index)) = file_allows
+            && suppress::is_suppressed(allows, code, line_index.utf16_position(range.start()).line)
+        {
+            continue;
+        }
+        out.push((file, convert(db, ws, diag, severity, range, ids)));
+    }
+    out
+}
+
 fn convert(
     db: &dyn salsa::Database,
     ws: Workspace,

@@ -1084,6 +1084,36 @@ pub const RULES: &[Rule] = &[
         "{address} lies in DB {n}, which group {g} generates; its layout is not under your control",
     ),
     rule(
+        "HG8101",
+        Severity::Error,
+        false,
+        "group {g} has no {'fc'/'db'} clause(s); build generates the FC and DB they name",
+    ),
+    rule(
+        "HG8102",
+        Severity::Error,
+        false,
+        "'{c}' (U+{hex}) is not in Windows-1252, the encoding of STEP 7 sources{; n more}",
+    ),
+    rule(
+        "HG8103",
+        Severity::Error,
+        false,
+        "'{x}' is {type}, an S7 type that IEC 61131-3 lacks; PLCopen XML cannot express it",
+    ),
+    rule(
+        "HG8104",
+        Severity::Info,
+        false,
+        "{feature} has no PLCopen equivalent; the export keeps it only in the documentation of {c}",
+    ),
+    rule(
+        "HG8105",
+        Severity::Error,
+        false,
+        "FC {n} is declared as an external block by 'block {x}'; building group {g} would overwrite it",
+    ),
+    rule(
         "HG9001",
         Severity::Error,
         false,

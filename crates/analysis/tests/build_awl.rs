@@ -8,6 +8,11 @@ use higraph_analysis::build::BuildOptions;
 use higraph_analysis::{AnalysisHost, FileContents, WorkspaceData};
 
 fn load_dir(root: &std::path::Path) -> AnalysisHost {
+    load_dir_with(root, None)
+}
+
+/// The workspace at `root`, with another `higraph.toml` when `config` is given.
+fn load_dir_with(root: &std::path::Path, config: Option<&str>) -> AnalysisHost {
     let mut data = WorkspaceData::default();
     let mut stack = vec![root.to_path_buf()];
     let mut files = Vec::new();
@@ -34,6 +39,12 @@ fn load_dir(root: &std::path::Path) -> AnalysisHost {
         } else if rel == "higraph.toml" {
             data.config = Some((rel, FileContents::from_bytes(bytes)));
         }
+    }
+    if let Some(text) = config {
+        data.config = Some((
+            "higraph.toml".to_owned(),
+            FileContents::from_bytes(text.as_bytes().to_vec()),
+        ));
     }
     let mut host = AnalysisHost::new();
     host.load(data);
@@ -213,26 +224,71 @@ fn python() -> Option<std::path::PathBuf> {
 /// cycle each instance's predefined variables (and own declared variables), the outputs and
 /// the bit memory.
 fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
+    differential_with(dir, None, group, seed, cycles, true)
+}
+
+fn differential_with(
+    dir: &str,
+    config: Option<&str>,
+    group: &str,
+    seed: u64,
+    cycles: usize,
+    absolute: bool,
+) {
     let Some(python) = python() else {
         eprintln!("Awlsim's venv is missing (run scripts/awlsim-diff once): skipped");
         return;
     };
-    let host = load_dir(&repo(dir));
+    let host = load_dir_with(&repo(dir), config);
+    let errors: Vec<String> = host
+        .analysis()
+        .diagnostics()
+        .into_iter()
+        .flat_map(|(_, d)| d)
+        .filter(|d| d.severity == higraph_analysis::Severity::Error)
+        .map(|d| format!("{} {}", d.code, d.message))
+        .collect();
+    assert!(errors.is_empty(), "{dir}: {errors:#?}");
     let options = BuildOptions {
         with_ob1: true,
+        absolute,
         ..ABSOLUTE
     };
-    let (name, bytes) = source(&host, group, &options);
+    let (name, bytes, symbols) = host
+        .analysis()
+        .group_source(group, &options)
+        .expect("not cancelled")
+        .expect("the group exists")
+        .expect("the group generates");
     let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("build_awl");
     std::fs::create_dir_all(&out).unwrap();
-    let awl = out.join(format!("{}-{name}", dir.replace('/', "_")));
+    let intl = config.is_some_and(|c| c.contains("international"));
+    let awl = out.join(format!(
+        "{}{}{}-{name}",
+        dir.replace('/', "_"),
+        if intl { "-intl" } else { "" },
+        if absolute { "" } else { "-symbolic" }
+    ));
     std::fs::write(&awl, &bytes).unwrap();
+    let sdf = awl.with_extension("sdf");
+    std::fs::write(&sdf, higraph_export::sdf::write(&symbols).unwrap()).unwrap();
     let text = text(&bytes);
     let db: u32 = text
         .lines()
         .next()
-        .and_then(|l| l.strip_prefix("DATA_BLOCK DB "))
-        .and_then(|n| n.trim().parse().ok())
+        .and_then(|l| l.strip_prefix("DATA_BLOCK "))
+        .and_then(|n| {
+            let n = n.trim();
+            match n.strip_prefix("DB ") {
+                Some(n) => n.trim().parse().ok(),
+                // A symbol: its number from the symbol table.
+                None => symbols
+                    .iter()
+                    .find(|s| format!("\"{}\"", s.name) == n)
+                    .and_then(|s| s.address.strip_prefix("DB "))
+                    .and_then(|n| n.trim().parse().ok()),
+            }
+        })
         .expect("DATA_BLOCK DB n");
 
     let lowered = host.analysis().lower_workspace().unwrap();
@@ -274,7 +330,7 @@ fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
     for _ in 0..cycles {
         let mut sets = Vec::new();
         for (i, &(area, byte, bit)) in inputs.iter().enumerate() {
-            if rng.next() % 4 == 0 {
+            if rng.next().is_multiple_of(4) {
                 values[i] = !values[i];
                 let place = Place::Mem {
                     area,
@@ -307,8 +363,14 @@ fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
     }
     let names: Vec<String> = fields.iter().map(|(n, _)| format!("\"{n}\"")).collect();
     let scenario = format!(
-        "{{\"awl\":{:?},\"db\":{db},\"dt\":10,\"fields\":[{}],\"bytes\":[[\"A\",0,8],[\"M\",0,64]],\"cycles\":[{}]}}",
+        "{{\"awl\":{:?},\"sdf\":{:?},\"mnemonics\":\"{}\",\"db\":{db},\"dt\":10,\"fields\":[{}],\"bytes\":[[\"A\",0,8],[\"M\",0,64]],\"cycles\":[{}]}}",
         awl.to_string_lossy(),
+        if absolute {
+            String::new()
+        } else {
+            sdf.to_string_lossy().into_owned()
+        },
+        if intl { "en" } else { "de" },
         names.join(","),
         cyc_json.join(",\n")
     );
@@ -347,7 +409,161 @@ fn awlsim_runtime_examples() {
         ("tests/data/runtime/e4", "G"),
         ("tests/data/runtime/e5", "Vorwaerts"),
         ("tests/data/runtime/e5", "Rueckwaerts"),
+        ("crates/analysis/tests/build_awl/features", "Paar"),
+        ("crates/analysis/tests/build_awl/features", "Einfach"),
     ] {
-        differential(dir, group, 11, 200);
+        for seed in [11, 12, 13] {
+            differential(dir, group, seed, 300);
+        }
+    }
+}
+
+#[test]
+fn awlsim_international_mnemonics() {
+    // The sources stay SIMATIC (their own `mnemonic` item would say so; here the workspace
+    // setting changes and the files are read in the international set): a file with SIMATIC
+    // operations in an international workspace is translated.
+    let config = "[workspace]\nmnemonic = \"international\"\n";
+    differential_with(
+        "crates/analysis/tests/build_awl/features_intl",
+        Some(config),
+        "Paar",
+        21,
+        300,
+        true,
+    );
+}
+
+#[test]
+fn awlsim_symbolic() {
+    // The symbolic sources with the symbol table `build` writes beside them.
+    differential_with("examples/drilling", None, "Bohrmaschine", 5, 300, false);
+    differential_with(
+        "crates/analysis/tests/build_awl/features",
+        None,
+        "Paar",
+        5,
+        300,
+        false,
+    );
+}
+
+fn load_text(text: &str) -> AnalysisHost {
+    let mut data = WorkspaceData::default();
+    data.files.push((
+        "w.higraph".to_owned(),
+        FileContents::from_bytes(text.as_bytes().to_vec()),
+    ));
+    let mut host = AnalysisHost::new();
+    host.load(data);
+    host
+}
+
+#[test]
+fn calls_are_written_as_called() {
+    let host = load_text(
+        r#"
+symbols < Dosieren : FC 30; IDB : DB 21; Menge : MW 12 INT; >
+graph G <
+  in < Go : BOOL; K : INT; >
+  state 0 <
+    C:
+      CALL FB 20, DB 20 (Start := Go, Wert := K, Ziel := Menge);
+      CALL Dosieren (Menge := 5);
+      CALL FB 22, IDB;
+      U Go;
+      CC FC 10;
+  >
+  trans any->0 < U INIT_SD; >
+>
+group Gr fc FC 1 db DB 1 < instance I : G < Go := M 0.0; K := 7; > >
+"#,
+    );
+    let (_, bytes) = source(&host, "Gr", &ABSOLUTE);
+    let abs = text(&bytes);
+    assert!(abs.contains("      CALL  FB 20, DB 20 (\n"), "{abs}");
+    assert!(
+        abs.contains("           Start                    := M 0.0,\n"),
+        "{abs}"
+    );
+    // The constant actual K := 7 passes the member holding it.
+    assert!(
+        abs.contains("           Wert                     := DB1.DBW "),
+        "{abs}"
+    );
+    assert!(
+        abs.contains("           Ziel                     := MW 12);\n"),
+        "{abs}"
+    );
+    assert!(
+        abs.contains("      CALL  FC 30 (\n           Menge                    := 5);\n"),
+        "{abs}"
+    );
+    assert!(abs.contains("      CALL  FB 22, DB 21;\n"), "{abs}");
+    assert!(abs.contains("      CC    FC 10;\n"), "{abs}");
+    assert!(abs.contains("    K : INT := 7;"), "{abs}");
+    let symbolic = BuildOptions {
+        absolute: false,
+        ..ABSOLUTE
+    };
+    let (_, bytes) = source(&host, "Gr", &symbolic);
+    let sym = text(&bytes);
+    assert!(sym.contains("      CALL  \"Dosieren\" (\n"), "{sym}");
+    assert!(sym.contains("      CALL  FB 22, \"IDB\";\n"), "{sym}");
+    assert!(
+        sym.contains("           Ziel                     := \"Menge\");\n"),
+        "{sym}"
+    );
+}
+
+#[test]
+fn unencodable_comments_are_refused() {
+    let host = load_text(
+        "graph G < state 0 \"\u{2192} Start\" < > trans any->0 < U INIT_SD; > >\n\
+         group Gr fc FC 1 db DB 1 \"Pfeil \u{2192}\" < instance I : G < > >\n",
+    );
+    let err = host
+        .analysis()
+        .group_source("Gr", &ABSOLUTE)
+        .unwrap()
+        .unwrap()
+        .unwrap_err();
+    assert!(err.contains("U+2192"), "{err}");
+}
+
+#[test]
+fn max_group_generates_and_runs() {
+    let files = higraph_workload::max_group(1);
+    let mut data = WorkspaceData::default();
+    let mut groups = Vec::new();
+    for (path, text) in files {
+        for line in text.lines() {
+            if let Some(rest) = line.trim_start().strip_prefix("group ") {
+                groups.push(rest.split_whitespace().next().unwrap_or("").to_owned());
+            }
+        }
+        if path.ends_with(".higraph") {
+            data.files
+                .push((path, FileContents::from_bytes(text.into_bytes())));
+        } else if path == "higraph.toml" {
+            data.config = Some((path, FileContents::from_bytes(text.into_bytes())));
+        }
+    }
+    let mut host = AnalysisHost::new();
+    host.load(data);
+    for g in &groups {
+        let t = std::time::Instant::now();
+        let (_, bytes) = source(&host, g, &ABSOLUTE);
+        std::fs::write(
+            std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("max-group.awl"),
+            &bytes,
+        )
+        .unwrap();
+        eprintln!(
+            "{g}: {} bytes, {} lines in {:?}",
+            bytes.len(),
+            bytes.split(|&b| b == b'\n').count(),
+            t.elapsed()
+        );
     }
 }

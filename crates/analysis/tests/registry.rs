@@ -2,7 +2,7 @@
 //! implementation's registry (`registry.rs`), the rule documentation (`docs/rules/`) and the
 //! fixtures (`test_data/rules/` here, `crates/syntax/test_data/diagnostics/` for syntax codes,
 //! `crates/lsp/tests/fixtures/results/` for the test results HG99xx, which only a test run
-//! reports) cover exactly the same codes, and the documentation states the registry's default
+//! reports, `test_data/build/` for the HG81xx only `build` reports) cover exactly the same codes, and the documentation states the registry's default
 //! severities.
 
 use std::{collections::BTreeSet, fs, path::Path};
@@ -36,6 +36,7 @@ fn fixture_codes() -> BTreeSet<String> {
         root().join("crates/analysis/test_data/rules"),
         root().join("crates/syntax/test_data/diagnostics"),
         root().join("crates/lsp/tests/fixtures/results"),
+        root().join("crates/analysis/test_data/build"),
     ] {
         for code in dir_names(&dir) {
             let files = dir_names(&dir.join(&code));

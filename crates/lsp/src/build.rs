@@ -252,9 +252,33 @@ fn replace(dir: &Path, name: &str, bytes: &[u8]) -> io::Result<()> {
     result
 }
 
+pub(crate) fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        format!("{n} {word}")
+    } else {
+        format!("{n} {word}s")
+    }
+}
+
+/// `2 groups and 1 chart`, `1 group`, `3 charts`.
+pub(crate) fn items_text(groups: usize, charts: usize) -> String {
+    match (groups, charts) {
+        (g, 0) => plural(g, "group"),
+        (0, c) => plural(c, "chart"),
+        (g, c) => format!("{} and {}", plural(g, "group"), plural(c, "chart")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn items_are_counted_in_words() {
+        assert_eq!(items_text(1, 0), "1 group");
+        assert_eq!(items_text(0, 3), "3 charts");
+        assert_eq!(items_text(2, 1), "2 groups and 1 chart");
+    }
 
     #[test]
     fn plain_names_stay_in_the_folder() {

@@ -1,11 +1,12 @@
 // Drives code-server (started by run.sh) in headless Chromium with playwright-core and checks
 // the extension end to end. Inputs come from run.sh through the environment:
 //   E2E_URL (workbench URL with ?folder=), E2E_TEST_URL (the same for the test workspace),
-//   E2E_WS (workspace), E2E_SHOTS, E2E_CACHE.
+//   E2E_WS (workspace), E2E_TEST_WS (the test workspace), E2E_SHOTS, E2E_CACHE.
+import { existsSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { join } from 'node:path';
 
-const { E2E_URL: url, E2E_TEST_URL: testUrl, E2E_SHOTS: shots, E2E_CACHE: cache } = process.env;
+const { E2E_URL: url, E2E_TEST_URL: testUrl, E2E_TEST_WS: testWs, E2E_SHOTS: shots, E2E_CACHE: cache } = process.env;
 const { chromium } = createRequire(join(cache, 'package.json'))('playwright-core');
 
 const failures = [];
@@ -231,6 +232,21 @@ try {
   const squiggle = await poll(async () => (await page.locator('.editor-instance .squiggly-error').count()) > 0, { tries: 40 });
   check(!!squiggle, 'the failure (HG9901) is shown at the expect in the editor');
   await shot('8-failed-test');
+
+  // (10) "HiGraph: Build" from the command palette builds the test workspace: the server
+  // writes build/Anlage.awl (the group's STEP 7 source), the notification shows the summary
+  await page.keyboard.press('Escape');
+  await pick('F1', '>HiGraph: Build', 'HiGraph: Build');
+  const awl = join(testWs, 'build', 'Anlage.awl');
+  const built = await poll(async () => existsSync(awl) && readFileSync(awl, 'latin1'), { tries: 60 });
+  check(!!built && /FUNCTION\s+(FC\s*1|"[^"]+")/.test(built) && /DATA_BLOCK/.test(built),
+    `"HiGraph: Build" writes build/Anlage.awl with the group's DB and FC (${built ? `${built.length} bytes` : 'no file'})`);
+  const toast = await poll(async () => {
+    const t = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
+    return t.find((x) => /HiGraph: /.test(x) && !/failed|building/.test(x)) ?? null;
+  }, { tries: 30 });
+  check(!!toast && /Anlage|1 group|written|built/i.test(toast), `the build's summary is shown (${(toast ?? 'no notification').replace(/\s+/g, ' ').trim().slice(0, 120)})`);
+  await shot('9-build');
 } catch (err) {
   failures.push(String(err));
   console.error('FAIL', err);

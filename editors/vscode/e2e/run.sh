@@ -8,8 +8,8 @@
 # the same ahead of time). Uses the server $HIGRAPH_LSP, else builds the debug one (the build
 # `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and
 # (in a second folder) the test workspace of tests/data/testing, and checks highlighting, diagnostics (squiggle +
-# Problems panel), completion, the graph preview, the test code lens and running a test from
-# the Testing view.
+# Problems panel), completion, the graph preview, the test code lens, running a test from
+# the Testing view, and "HiGraph: Build" writing the group's STEP 7 source.
 # Screenshots go to target/e2e-screenshots/. Exits non-zero on any failed check.
 set -euo pipefail
 start=$SECONDS
@@ -127,7 +127,7 @@ rm -rf "$shots"; mkdir -p "$shots"
 step "driving VS Code in headless Chromium"
 status=0
 E2E_URL="http://127.0.0.1:$port/?folder=$ws" E2E_TEST_URL="http://127.0.0.1:$port/?folder=$tws" \
-  E2E_WS="$ws" E2E_SHOTS="$shots" E2E_CACHE="$cache" \
+  E2E_WS="$ws" E2E_TEST_WS="$tws" E2E_SHOTS="$shots" E2E_CACHE="$cache" \
   "$node24" "$here/e2e.mjs" || status=$?
 if [ $status -ne 0 ]; then
   echo "--- code-server log (tail)"; tail -n 40 "$work/code-server.log" || true

@@ -1,6 +1,6 @@
 // The HiGraph extension: starts the `higraph-lsp` language server for .higraph files and
-// adds the commands "HiGraph: Restart Server", "HiGraph: Show Graph Preview" and "HiGraph:
-// Play Test Trace", and the tests of the workspace to the Testing view (testing.ts). Colouring
+// adds the commands "HiGraph: Restart Server", "HiGraph: Show Graph Preview", "HiGraph:
+// Play Test Trace" and "HiGraph: Build", and the tests of the workspace to the Testing view (testing.ts). Colouring
 // (TextMate grammar), the language configuration and the snippets are declarative
 // (package.json) and work without the server.
 import * as vscode from 'vscode';
@@ -12,6 +12,7 @@ import {
   type LanguageClientOptions,
   type ServerOptions,
 } from 'vscode-languageclient/node';
+import { BUILD_COMMAND, buildTarget, describeBuild } from './build';
 import { testAt } from './itemAtCursor';
 import { GraphPreview, RENDER_METHOD, type RenderParams, type RenderResult } from './preview';
 import type { Trace } from './previewPage';
@@ -79,6 +80,7 @@ export function activate(context: vscode.ExtensionContext): void {
     vscode.commands.registerCommand('higraph.restartServer', () => queue(() => restart(context, true))),
     vscode.commands.registerCommand('higraph.showGraphPreview', () => preview?.show()),
     vscode.commands.registerCommand('higraph.playTrace', (arg?: unknown) => playTrace(arg)),
+    vscode.commands.registerCommand('higraph.buildWorkspace', () => buildWorkspace()),
     vscode.workspace.onDidChangeConfiguration((e) => {
       if (e.affectsConfiguration('higraph.server.path')) {
         output.appendLine('higraph.server.path changed: restarting the server.');
@@ -133,11 +135,22 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
     synchronize: { fileEvents: watchers },
     outputChannel: output,
     middleware: {
-      // A click on the `▶ Run test` lens runs through the Testing view (results, gutter).
-      executeCommand: (command, args, next) =>
-        command === RUN_TEST_COMMAND && explorer
-          ? explorer.runFromLens(args[0], async () => next(command, args))
-          : next(command, args),
+      // A click on the `▶ Run test` lens runs through the Testing view (results, gutter); the
+      // code action "Build this group/chart" (`higraph.build` with an argument, registered by
+      // the client because the server announces it) reports like "HiGraph: Build".
+      executeCommand: async (command, args, next) => {
+        if (command === RUN_TEST_COMMAND && explorer) return explorer.runFromLens(args[0], async () => next(command, args));
+        if (command !== BUILD_COMMAND) return next(command, args);
+        const what = buildTarget(args);
+        try {
+          const answer: unknown = await next(command, args);
+          void showBuild(answer, what);
+          return answer;
+        } catch (err) {
+          void showBuildError(err, what);
+          return undefined;
+        }
+      },
     },
   };
 
@@ -215,6 +228,54 @@ async function playTrace(arg?: unknown): Promise<void> {
     test = { name: picked.entry.name, uri: picked.entry.uri };
   }
   await preview?.play(test);
+}
+
+/**
+ * "HiGraph: Build" (`higraph.buildWorkspace`): asks the server to build the whole workspace
+ * (`higraph.build` without an argument: all targets of the workspace's configuration) and
+ * shows its one-line summary; the "HiGraph" output channel lists the files written.
+ */
+async function buildWorkspace(): Promise<void> {
+  const what = 'the workspace';
+  // The command may be what activated the extension: let the server start first.
+  await lifecycle;
+  let running: LanguageClient;
+  try {
+    running = runningClient();
+  } catch (err) {
+    void showBuildError(err, what);
+    return;
+  }
+  try {
+    const answer: unknown = await vscode.window.withProgress(
+      { location: vscode.ProgressLocation.Notification, title: `HiGraph: building ${what}`, cancellable: true },
+      (_progress, token) =>
+        running.sendRequest(ExecuteCommandRequest.type, { command: BUILD_COMMAND }, token),
+    );
+    await showBuild(answer, what);
+  } catch (err) {
+    await showBuildError(err, what);
+  }
+}
+
+async function showBuild(answer: unknown, what: string): Promise<void> {
+  const report = describeBuild(answer, what);
+  for (const line of report.lines) output.appendLine(line);
+  const showOutput = 'Show Output';
+  const showProblems = 'Show Problems';
+  const choice =
+    report.severity === 'error'
+      ? await vscode.window.showErrorMessage(report.notification, showProblems, showOutput)
+      : await vscode.window.showInformationMessage(report.notification, showOutput);
+  if (choice === showOutput) output.show(true);
+  else if (choice === showProblems) await vscode.commands.executeCommand('workbench.actions.view.problems');
+}
+
+async function showBuildError(err: unknown, what: string): Promise<void> {
+  const message = `building ${what} failed: ${err instanceof Error ? err.message : String(err)}`;
+  output.appendLine(message);
+  const showOutput = 'Show Output';
+  if ((await vscode.window.showErrorMessage(`HiGraph: ${message}`, showOutput)) === showOutput) output.show(true);
 }
 
 function describeSource(source: string): string {

@@ -49,7 +49,11 @@ test('package.json: settings and commands', () => {
     'higraph.restartServer': 'HiGraph: Restart Server',
     'higraph.showGraphPreview': 'HiGraph: Show Graph Preview',
     'higraph.playTrace': 'HiGraph: Play Test Trace',
+    'higraph.buildWorkspace': 'HiGraph: Build',
   });
+  // the palette's build command must not be the server's `higraph.build`: the language client
+  // registers that one itself (the server announces it), and a second registration fails
+  assert.ok(!('higraph.build' in titles));
   // every command registered in the sources is declared, and the other way round
   const source = readFileSync(join(extensionRoot, 'src', 'extension.ts'), 'utf8');
   const registered = [...source.matchAll(/registerCommand\('([^']+)'/g)].map((m) => m[1]).sort();

@@ -1,5 +1,5 @@
 // Unit tests of the extension's editor-independent parts (finding the item under the cursor,
-// finding the server, the preview page). The TypeScript sources are bundled with esbuild into
+// finding the server, the preview page, the report of a build). The TypeScript sources are bundled with esbuild into
 // a temporary ES module first; `vscode` is not needed for these.
 import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -15,7 +15,7 @@ after(() => rmSync(work, { recursive: true, force: true }));
 
 writeFileSync(
   join(work, 'entry.ts'),
-  ['itemAtCursor', 'serverPath', 'previewPage', 'testResult']
+  ['itemAtCursor', 'serverPath', 'previewPage', 'testResult', 'build']
     .map((m) => `export * from ${JSON.stringify(join(extensionRoot, 'src', m))};`)
     .join('\n'),
 );
@@ -213,4 +213,50 @@ test('failures are placed in their files, relative to the workspace root', () =>
   assert.deepEqual([passed.state, passed.messages, passed.summary], ['passed', [], 'test T ... ok (1 cycle, 10 ms)']);
   assert.equal(m.verdict('file:///ws/t.higraph', { name: 'T', file: 't.higraph', range, result: 'error', cycles: 0, time_ms: 0, failures: [] }).state, 'errored');
   assert.equal(m.testId('file:///ws/t.higraph', 'Bohr'), 'file:///ws/t.higraph#BOHR');
+});
+
+// ---- build ---------------------------------------------------------------------------------
+
+test('a build report: the summary as notification, one output line per file written', () => {
+  const r = m.describeBuild({ files: ['build/Bohrmaschine.awl', 'build/symbols.sdf'], refused: false, message: 'built 1 group, 0 charts: 2 files written' });
+  assert.equal(r.severity, 'info');
+  assert.equal(r.notification, 'HiGraph: built 1 group, 0 charts: 2 files written');
+  assert.deepEqual(r.lines, [
+    'build of the workspace: built 1 group, 0 charts: 2 files written',
+    '  wrote build/Bohrmaschine.awl',
+    '  wrote build/symbols.sdf',
+  ]);
+  assert.deepEqual(m.describeBuild({ files: [], refused: false, message: 'built 1 group: up to date' }).lines, [
+    'build of the workspace: built 1 group: up to date',
+    '  no file changed',
+  ]);
+});
+
+test('a refused build is an error that points to the Problems panel; files are not listed', () => {
+  const r = m.describeBuild({ files: ['ignored.awl'], refused: true, message: 'build refused: 2 errors in bohrmaschine.higraph' }, 'group Anlage');
+  assert.equal(r.severity, 'error');
+  assert.equal(r.notification, 'HiGraph: build refused: 2 errors in bohrmaschine.higraph');
+  assert.equal(r.lines[0], 'build of group Anlage: build refused: 2 errors in bohrmaschine.higraph');
+  assert.match(r.lines[1], /nothing was written.*Problems/);
+  assert.equal(r.lines.length, 2);
+});
+
+test('a malformed answer is reported, never thrown', () => {
+  for (const bad of [null, undefined, 42, 'text', {}, { files: 'x', message: 3 }]) {
+    const r = m.describeBuild(bad);
+    assert.equal(r.severity, 'error', JSON.stringify(bad));
+    assert.match(r.notification, /no answer the extension understands/);
+  }
+  // non-string file entries are dropped, a missing `refused` means false
+  assert.deepEqual(m.parseBuildAnswer({ files: ['a.awl', 7, null], message: 'ok' }), { files: ['a.awl'], refused: false, message: 'ok' });
+});
+
+test('the build argument names a group or chart; none is the workspace', () => {
+  assert.equal(m.buildTarget(undefined), 'the workspace');
+  assert.equal(m.buildTarget([]), 'the workspace');
+  assert.equal(m.buildTarget([{ kind: 'group', name: 'Anlage' }]), 'group Anlage');
+  assert.equal(m.buildTarget([{ kind: 'chart', name: 'Dosierer' }]), 'chart Dosierer');
+  assert.equal(m.buildTarget([{ kind: 'graph', name: 'X' }]), 'the workspace');
+  assert.equal(m.BUILD_COMMAND, 'higraph.build');
+  assert.equal(m.BUILD_WORKSPACE_COMMAND, 'higraph.buildWorkspace');
 });

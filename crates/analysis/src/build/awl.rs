@@ -140,6 +140,12 @@ pub(super) fn group_source(
         literals: std::mem::take(&mut lw.names.literals),
         time_symbols: std::mem::take(&mut lw.names.time_symbols),
         blocks,
+        call_dbs: lw
+            .names
+            .call_dbs
+            .iter()
+            .filter_map(|(o, text)| Some((*o, block_name(index, text, mnemonic)?)))
+            .collect(),
         symbols,
         var_comments: HashMap::new(),
     };
@@ -206,5 +212,95 @@ impl crate::Analysis {
                     .map(|s| (s.file_name, s.bytes, s.symbols)),
             )
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{AnalysisHost, FileContents, WorkspaceData};
+
+    /// `symbols.sdf` as `build` writes it reads back through the workspace's own `.sdf`
+    /// import with the same names, addresses, types and comments, and no problems.
+    #[test]
+    fn symbols_sdf_round_trip() {
+        use higraph_export::sdf::{Symbol, write};
+        let symbols = vec![
+            Symbol {
+                name: "GG_Bohrmaschine".into(),
+                address: "FC 1".into(),
+                ty: "FC 1".into(),
+                comment: "FC of graph group Bohrmaschine".into(),
+            },
+            Symbol {
+                name: "DB_GG_Bohrmaschine".into(),
+                address: "DB 1".into(),
+                ty: "DB 1".into(),
+                comment: String::new(),
+            },
+            Symbol {
+                name: "Starttaster".into(),
+                address: "E 0.7".into(),
+                ty: "BOOL".into(),
+                comment: "Start \u{e4}".into(),
+            },
+            Symbol {
+                name: "Wert".into(),
+                address: "MW 10".into(),
+                ty: "INT".into(),
+                comment: "a value".into(),
+            },
+            Symbol {
+                name: "Zeit".into(),
+                address: "T 4".into(),
+                ty: "TIMER".into(),
+                comment: String::new(),
+            },
+        ];
+        let bytes = write(&symbols).expect("Windows-1252");
+        let mut data = WorkspaceData {
+            config: Some((
+                "higraph.toml".into(),
+                FileContents::from_bytes(b"[workspace]\nsymbols = [\"symbols.sdf\"]\n".to_vec()),
+            )),
+            ..WorkspaceData::default()
+        };
+        data.imports.insert("symbols.sdf".into(), Ok(bytes));
+        let mut host = AnalysisHost::new();
+        host.load(data);
+        let read = host
+            .analysis()
+            .with_db(|db, ws| {
+                let tables = crate::sdf::imported_tables(db, ws);
+                assert_eq!(tables.len(), 1);
+                assert!(tables[0].problems.is_empty(), "{:?}", tables[0].problems);
+                tables[0]
+                    .symbols
+                    .iter()
+                    .map(|s| {
+                        (
+                            s.name.clone(),
+                            s.address
+                                .as_ref()
+                                .map(|a| a.display(crate::lang::Mnemonic::Simatic))
+                                .unwrap_or_default(),
+                            s.type_text.clone().unwrap_or_default(),
+                            s.comment.clone().unwrap_or_default(),
+                        )
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .unwrap();
+        let want: Vec<_> = symbols
+            .iter()
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    s.address.clone(),
+                    s.ty.clone(),
+                    s.comment.clone(),
+                )
+            })
+            .collect();
+        assert_eq!(read, want);
     }
 }

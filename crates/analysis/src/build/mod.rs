@@ -74,6 +74,9 @@ pub struct BuildResult {
     /// tables, `higraph.toml`), by workspace path, in workspace order: what `build` prints
     /// besides [`BuildResult::diagnostics`]. The errors among them stop the build.
     pub checked: Vec<(String, Diagnostic)>,
+    /// Why the files could not be generated although no diagnostic stopped the build (a bug
+    /// guard: the rules refuse such input first); the file concerned is in `refused`.
+    pub failure: Option<String>,
 }
 
 /// A group or chart a build can cover (for "Build this group/chart").
@@ -178,9 +181,12 @@ fn build_item(
         ..*options
     };
     let item = [(found.file, found.item)];
-    let (groups, charts): (&[(File, u32)], &[(File, u32)]) =
-        if chart { (&[], &item) } else { (&item, &[]) };
-    run(db, ws, groups, charts, &[found.file], &options)
+    let none: &[(File, u32)] = &[];
+    if chart {
+        run(db, ws, none, &item, &[found.file], &options)
+    } else {
+        run(db, ws, &item, none, &[found.file], &options)
+    }
 }
 
 fn build_items(db: &dyn salsa::Database, _ws: Workspace, file: File) -> Vec<BuildItem> {
@@ -282,8 +288,9 @@ fn run(
     if refused.is_empty() {
         match generate(db, ws, groups, charts, options) {
             Ok(files) => result.files = files,
-            Err(file) => {
+            Err((file, why)) => {
                 refused.insert(file);
+                result.failure = Some(why);
             }
         }
     }
@@ -299,24 +306,27 @@ fn run(
 }
 
 /// The generated files: one source per group (build order), the charts' document, the symbol
-/// table. `Err` names the file of a group the generator could not lower (a bug guard: errors
-/// are refused before).
+/// table. `Err` names the file of a group the generator could not write, and why (a bug
+/// guard: errors are refused before).
 fn generate(
     db: &dyn salsa::Database,
     ws: Workspace,
     groups: &[(File, u32)],
     charts: &[(File, u32)],
     options: &BuildOptions,
-) -> Result<Vec<BuildFile>, File> {
+) -> Result<Vec<BuildFile>, (File, String)> {
     let mut files = Vec::new();
     let mut names: HashSet<String> = HashSet::new();
     let mut symbols: Vec<higraph_export::sdf::Symbol> = Vec::new();
     for &(file, item) in groups {
-        let source = awl::group_source(db, ws, file, item, options).map_err(|_| file)?;
+        let source = awl::group_source(db, ws, file, item, options).map_err(|why| (file, why))?;
         // Two files whose names differ only in letter case would be one file on some
         // systems; group names are unique case-insensitively, so this is a bug guard too.
         if !names.insert(source.file_name.to_ascii_uppercase()) {
-            return Err(file);
+            return Err((
+                file,
+                format!("two groups would both write {}", source.file_name),
+            ));
         }
         symbols.extend(source.symbols);
         files.push(BuildFile {
@@ -330,10 +340,12 @@ fn generate(
             bytes: plcopen::charts_xml(db, ws, charts),
         });
     }
-    if !groups.is_empty() && !options.absolute {
+    if let (Some(&(file, _)), false) = (groups.first(), options.absolute) {
+        let bytes = higraph_export::sdf::write(&symbol_union(symbols))
+            .map_err(|why| (file, format!("{SYMBOLS_FILE}: {why}")))?;
         files.push(BuildFile {
             name: SYMBOLS_FILE.to_owned(),
-            bytes: higraph_export::sdf::write(&symbol_union(symbols)).map_err(|_| groups[0].0)?,
+            bytes,
         });
     }
     Ok(files)

@@ -14,7 +14,7 @@
 //! equal, so the groups are not checked again.
 
 pub(crate) mod actuals;
-mod blocks;
+pub(crate) mod blocks;
 mod instances;
 pub(crate) mod interface;
 mod messages;

@@ -35,7 +35,7 @@ pub(crate) mod graph;
 pub(crate) mod group;
 mod names;
 pub(crate) mod stl;
-mod symbols;
+pub(crate) mod symbols;
 pub(crate) mod test;
 
 /// What the rules found in one item.

@@ -8,10 +8,12 @@ simulator did (a scenario written by crates/analysis/tests/build_awl.rs):
    "cycles": [{"set": [["M", 1, 0, 1], ...],         inputs before the cycle (area byte bit v)
                "fields": [0, 1, ...], "bytes": [[...], [...]]}, ...]}
 
-The source must bring its own OB 1 (`--with-ob1`). Virtual clock: Δ ms per cycle, so SFC 64
+With "sdf": the symbol table `build` wrote (System Data Format) is loaded first, for a
+symbolic source. The source must bring its own OB 1 (`--with-ob1`). Virtual clock: Δ ms per cycle, so SFC 64
 TIME_TCK and the timers advance exactly like the simulator's clock. Exit 1 at the first
 difference (printed), 0 when every cycle agrees.
 """
+import csv
 import json
 import sys
 
@@ -34,6 +36,13 @@ def main():
     cpu = sim.getCPU()
     cpu.getConf().setConfiguredMnemonics(
         S7CPUConfig.MNEMONICS_DE if sc.get("mnemonics", "de") == "de" else S7CPUConfig.MNEMONICS_EN)
+    if sc.get("sdf"):
+        text = open(sc["sdf"], "rb").read().decode("cp1252")
+        rows = ['"%s";"%s";"%s";"%s"' % tuple(f.strip() for f in row)
+                for row in csv.reader(text.splitlines()) if row]
+        symtab = SymTabParser_CSV.parseText("\r\n".join(rows) + "\r\n", autodetectFormat=False,
+                                            mnemonics=cpu.getConf().getConfiguredMnemonics())
+        sim.loadSymbolTable(symtab)
     sim.load(parser.getParseTree())
     sim.build()
     clock = {"now": T0}

@@ -27,7 +27,7 @@ use higraph_analysis::{AnalysisHost, FileId};
 use super::output::{self, Report, Reported, SourceFile, Sources};
 use super::paths::OutputPaths;
 use super::{BuildArgs, BuildTarget, CliError, EXIT_FAILURE, Format, write_stdout};
-use crate::build::{output_folder, write_files};
+use crate::build::{items_text, output_folder, plural, write_files};
 use crate::workspace;
 
 pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
@@ -118,6 +118,10 @@ pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
     }
 
     let items = items_text(result.groups, result.charts);
+    if let Some(why) = &result.failure {
+        let _ = writeln!(io::stderr(), "error: nothing built: {why}");
+        return Ok(ExitCode::from(EXIT_FAILURE));
+    }
     if !result.refused.is_empty() {
         let files = result
             .refused
@@ -165,33 +169,4 @@ pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
     }
     let _ = writeln!(io::stderr(), "{summary}");
     Ok(ExitCode::SUCCESS)
-}
-
-fn plural(n: usize, word: &str) -> String {
-    if n == 1 {
-        format!("{n} {word}")
-    } else {
-        format!("{n} {word}s")
-    }
-}
-
-/// `2 groups and 1 chart`, `1 group`, `3 charts`.
-pub(crate) fn items_text(groups: usize, charts: usize) -> String {
-    match (groups, charts) {
-        (g, 0) => plural(g, "group"),
-        (0, c) => plural(c, "chart"),
-        (g, c) => format!("{} and {}", plural(g, "group"), plural(c, "chart")),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn items_are_counted_in_words() {
-        assert_eq!(items_text(1, 0), "1 group");
-        assert_eq!(items_text(0, 3), "3 charts");
-        assert_eq!(items_text(2, 1), "2 groups and 1 chart");
-    }
 }

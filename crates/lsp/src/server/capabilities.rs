@@ -101,12 +101,16 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
             },
         )),
         hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
-        // `▶ Run test` on each test header, running `higraph.runTest` (`runtime.md` §8).
+        // `▶ Run test` on each test header, running `higraph.runTest` (`runtime.md` §8);
+        // `higraph.build` writes the build (`export.md` §2, the code action on headers).
         code_lens_provider: Some(lsp::CodeLensOptions {
             resolve_provider: Some(false),
         }),
         execute_command_provider: Some(lsp::ExecuteCommandOptions {
-            commands: vec![super::testing::RUN_TEST.to_owned()],
+            commands: vec![
+                super::testing::RUN_TEST.to_owned(),
+                super::build::BUILD.to_owned(),
+            ],
             work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
         }),
         completion_provider: Some(lsp::CompletionOptions {

@@ -350,7 +350,8 @@ pub(crate) fn code_action(
         return Ok(None);
     };
     // Kinds are hierarchical: `quickfix` is asked for by `quickfix` (or the empty kind, the
-    // root), not by a sub-kind such as `quickfix.foo` or by `refactor`.
+    // root), not by a sub-kind such as `quickfix.foo` or by `refactor`. The build actions
+    // have no kind: only a request without `only` gets them.
     if let Some(only) = &params.context.only {
         let quickfix = lsp::CodeActionKind::QUICKFIX;
         if !only
@@ -394,6 +395,9 @@ pub(crate) fn code_action(
             diagnostics,
             edit,
         )));
+    }
+    if params.context.only.is_none() {
+        response.extend(super::build::code_actions(snapshot, &path, range)?);
     }
     Ok(Some(response))
 }

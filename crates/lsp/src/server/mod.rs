@@ -11,6 +11,7 @@
 //!
 //! No analysis happens here: every answer comes from `higraph_analysis`.
 
+mod build;
 mod capabilities;
 mod convert;
 mod diagnostics;
@@ -168,6 +169,42 @@ impl Backend {
     /// The custom request `higraph/tests`: every test of the workspace.
     async fn tests(&self, params: Option<serde_json::Value>) -> jsonrpc::Result<testing::TestList> {
         self.answer("higraph/tests", params, testing::list).await
+    }
+
+    /// `workspace/executeCommand` `higraph.build` with no argument (or `null`) or one
+    /// `{"kind", "name"}`: builds on a blocking thread, answers the summary and logs it.
+    async fn build(
+        &self,
+        arguments: Vec<serde_json::Value>,
+    ) -> jsonrpc::Result<Option<lsp::LSPAny>> {
+        let params = match arguments.into_iter().next() {
+            None | Some(serde_json::Value::Null) => None,
+            Some(argument) => match serde_json::from_value::<build::BuildParams>(argument) {
+                Ok(params) => Some(params),
+                Err(_) => {
+                    return Err(rpc_error(
+                        ErrorCode::InvalidParams,
+                        format!(
+                            "{} takes no argument or one {{\"kind\": \"group\"|\"chart\", \
+                             \"name\": NAME}}",
+                            build::BUILD
+                        ),
+                    ));
+                }
+            },
+        };
+        let answer = self.answer(build::BUILD, params, build::build).await?;
+        let kind = if answer.refused {
+            MessageType::WARNING
+        } else {
+            MessageType::INFO
+        };
+        self.client
+            .log_message(kind, format!("{}: {}", build::BUILD, answer.message))
+            .await;
+        serde_json::to_value(&answer)
+            .map(Some)
+            .map_err(|error| rpc_error(ErrorCode::InternalError, error.to_string()))
     }
 
     fn support(&self) -> ClientSupport {
@@ -557,18 +594,23 @@ impl LanguageServer for Backend {
     }
 
     /// `higraph.runTest`: runs a test and answers its `--format json` object; the world
-    /// keeps the result for the lens and publishes the failures.
+    /// keeps the result for the lens and publishes the failures. `higraph.build`: builds and
+    /// writes the files (`build.rs`).
     async fn execute_command(
         &self,
         params: lsp::ExecuteCommandParams,
     ) -> jsonrpc::Result<Option<lsp::LSPAny>> {
+        if params.command == build::BUILD {
+            return self.build(params.arguments).await;
+        }
         if params.command != testing::RUN_TEST {
             return Err(rpc_error(
                 ErrorCode::InvalidParams,
                 format!(
-                    "unknown command '{}'; the server executes only {}",
+                    "unknown command '{}'; the server executes only {} and {}",
                     params.command,
-                    testing::RUN_TEST
+                    testing::RUN_TEST,
+                    build::BUILD
                 ),
             ));
         }

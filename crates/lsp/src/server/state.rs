@@ -221,6 +221,11 @@ impl Snapshot {
         self.test_records.get(key)
     }
 
+    /// The workspace root on disk (canonical), `None` when the client opened no folder.
+    pub(crate) fn root(&self) -> Option<&std::path::Path> {
+        self.paths.root()
+    }
+
     /// The workspace path of a URI (`None` for URIs that name no file).
     pub(crate) fn path(&self, uri: &Uri) -> Option<String> {
         self.paths.name(uri)
