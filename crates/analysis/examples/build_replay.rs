@@ -307,6 +307,10 @@ fn build(files: &[(String, String)]) -> Built {
             Ok(files)
         }
         Ok(Err(_)) => Err("the build was cancelled".into()),
+        Ok(Ok(r)) if r.failure.is_some() => Err(format!(
+            "the generator failed: {}",
+            r.failure.unwrap_or_default()
+        )),
         Ok(Ok(r)) if !r.refused.is_empty() => Err(format!(
             "build refused (error-level diagnostics in {})",
             r.refused.join(", ")
