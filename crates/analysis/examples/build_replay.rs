@@ -59,7 +59,7 @@ fn args() -> Result<Args, String> {
     let mut a = Args {
         out: PathBuf::new(),
         cycles: 300,
-        workload_cycles: 12,
+        workload_cycles: 30,
         seed: 1,
         only: None,
         extra: Vec::new(),
