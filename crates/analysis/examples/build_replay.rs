@@ -105,7 +105,7 @@ fn main() {
     // Panics of the generator are caught and reported per workspace; keep stderr quiet.
     std::panic::set_hook(Box::new(|_| {}));
     let root = PathBuf::from(format!("{}/../..", env!("CARGO_MANIFEST_DIR")));
-    let mut workspaces: Vec<(String, Vec<(String, String)>, bool)> = Vec::new();
+    let mut workspaces: Vec<(String, Files, bool)> = Vec::new();
     let mut names: Vec<String> = std::fs::read_dir(root.join("examples"))
         .map(|d| {
             d.filter_map(|e| e.ok())
@@ -155,6 +155,9 @@ fn main() {
     }
     println!("build_replay: {} scenarios in {}", out.n, out.dir.display());
 }
+
+/// A workspace's files: (workspace-relative path, text).
+type Files = Vec<(String, String)>;
 
 struct Out {
     dir: PathBuf,
@@ -232,10 +235,10 @@ fn machine_strings(root: &Path) -> Vec<String> {
     if let Ok(root) = root.canonicalize() {
         out.push(root.to_string_lossy().into_owned());
     }
-    if let Ok(home) = std::env::var("HOME") {
-        if home.len() > 1 {
-            out.push(home);
-        }
+    if let Ok(home) = std::env::var("HOME")
+        && home.len() > 1
+    {
+        out.push(home);
     }
     if let Ok(dir) = std::env::current_dir() {
         out.push(dir.to_string_lossy().into_owned());
@@ -568,10 +571,10 @@ fn layout(program: &Program, groups: &[u32], built: &Built) -> Result<Layout, St
     for &g in groups {
         let group = &program.groups[g as usize];
         let awl = format!("{}.awl", group.name);
-        if let Ok(built) = built {
-            if !built.contains_key(&awl) {
-                return Err(format!("the build wrote no {awl}"));
-            }
+        if let Ok(built) = built
+            && !built.contains_key(&awl)
+        {
+            return Err(format!("the build wrote no {awl}"));
         }
         let mut instances = Vec::new();
         let mut msgs = Vec::new();
@@ -783,15 +786,14 @@ fn stimulus(program: &Program, group: u32) -> (Vec<Place>, Vec<Place>) {
     let mut words = Vec::new();
     let mut seen = std::collections::HashSet::new();
     let mut add = |place: &Place| {
-        if let Place::Mem { area, byte, width } = place {
-            if matches!(area, MemArea::Input | MemArea::Memory)
-                && seen.insert((*area, *byte, *width))
-            {
-                match width {
-                    Width::Bit(_) => bits.push(place.clone()),
-                    Width::Word => words.push(place.clone()),
-                    _ => {}
-                }
+        if let Place::Mem { area, byte, width } = place
+            && matches!(area, MemArea::Input | MemArea::Memory)
+            && seen.insert((*area, *byte, *width))
+        {
+            match width {
+                Width::Bit(_) => bits.push(place.clone()),
+                Width::Word => words.push(place.clone()),
+                _ => {}
             }
         }
     };
@@ -872,12 +874,11 @@ fn random_scenario(
     let mut rng = Rng(seed ^ (group as u64).wrapping_mul(0x1000_0001));
     let mut out = Vec::new();
     let write = |sim: &mut Sim<'_>, place: &Place, bits: u32, before: &mut Vec<Json>| {
-        if sim.machine.write(place, bits).is_ok() {
-            if let Ok(w) = write_json(place, bits, &lay) {
-                if !w.is_null() {
-                    before.push(w);
-                }
-            }
+        if sim.machine.write(place, bits).is_ok()
+            && let Ok(w) = write_json(place, bits, &lay)
+            && !w.is_null()
+        {
+            before.push(w);
         }
     };
     for k in 1..=cycles {
