@@ -331,7 +331,14 @@ fn panic_text(panic: &Box<dyn std::any::Any + Send>) -> String {
 }
 
 /// The determinism findings of two builds (`export.md` §2).
-fn determinism(name: &str, a: &Built, b: &Built, secrets: &[String], out: &mut String) {
+fn determinism(
+    name: &str,
+    inputs: &[(String, String)],
+    a: &Built,
+    b: &Built,
+    secrets: &[String],
+    out: &mut String,
+) {
     let (Ok(a), Ok(b)) = (a, b) else {
         if a.is_ok() != b.is_ok() {
             let _ = writeln!(out, "{name}: one build went through, the other did not");
@@ -358,17 +365,23 @@ fn determinism(name: &str, a: &Built, b: &Built, secrets: &[String], out: &mut S
                 let _ = writeln!(out, "{name}/{file}: contains the machine path {s}");
             }
         }
-        if let Some(stamp) = time_stamp(&text) {
+        // A date or time the input does not contain (a constant or comment copied from the
+        // text is not a time stamp).
+        if let Some(stamp) = time_stamps(&text)
+            .into_iter()
+            .find(|s| !inputs.iter().any(|(_, t)| t.contains(s)))
+        {
             let _ = writeln!(out, "{name}/{file}: contains a time stamp: {stamp}");
         }
     }
 }
 
-/// A date `YYYY-MM-DD` or `YYYY/MM/DD` with a year 19xx/20xx, or a clock time `HH:MM:SS`
-/// (STEP 7 sources need neither).
-fn time_stamp(text: &str) -> Option<String> {
+/// The dates `YYYY-MM-DD` or `YYYY/MM/DD` (a year 19xx/20xx) and clock times `HH:MM:SS` of a
+/// text, each as the date or time alone (STEP 7 sources need neither).
+fn time_stamps(text: &str) -> Vec<&str> {
     let b = text.as_bytes();
     let digit = |i: usize| b.get(i).is_some_and(|c| c.is_ascii_digit());
+    let mut out = Vec::new();
     for i in 0..b.len() {
         let at_word = i == 0 || !b[i - 1].is_ascii_alphanumeric();
         if !at_word {
@@ -391,12 +404,13 @@ fn time_stamp(text: &str) -> Option<String> {
             && b.get(i + 5) == Some(&b':')
             && digit(i + 6)
             && digit(i + 7);
-        if date || clock {
-            let end = (i + 19).min(b.len());
-            return Some(String::from_utf8_lossy(&b[i..end]).into_owned());
+        if date {
+            out.extend(text.get(i..i + 10));
+        } else if clock {
+            out.extend(text.get(i..i + 8));
         }
     }
-    None
+    out
 }
 
 fn workspace(
@@ -418,7 +432,7 @@ fn workspace(
             })
     });
     let mnemonic = if international { "en" } else { "de" };
-    determinism(name, &built, &again, secrets, &mut out.determinism);
+    determinism(name, files, &built, &again, secrets, &mut out.determinism);
     let dir = out.dir.join(name);
     let _ = std::fs::create_dir_all(&dir);
     if let Ok(built) = &built {
