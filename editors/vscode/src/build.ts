@@ -3,7 +3,8 @@
 //
 // The server writes the files itself (`higraph-lsp build` for the whole workspace, or for one
 // group or chart with the argument `{"kind": "group"|"chart", "name": ...}`) and answers
-// `{"files": [workspace-relative paths written], "refused": bool, "message": one line}`.
+// `{"files": [workspace-relative paths written], "unchanged": [paths that already held the same
+// bytes], "refused": bool, "message": one line}`.
 
 export const BUILD_COMMAND = 'higraph.build';
 /** The VS Code command of the palette (the server's own command id is registered by the
@@ -12,6 +13,7 @@ export const BUILD_WORKSPACE_COMMAND = 'higraph.buildWorkspace';
 
 export interface BuildAnswer {
   files: string[];
+  unchanged: string[];
   refused: boolean;
   message: string;
 }
@@ -31,8 +33,8 @@ export function parseBuildAnswer(value: unknown): BuildAnswer | undefined {
   if (!value || typeof value !== 'object') return undefined;
   const v = value as Record<string, unknown>;
   if (typeof v.message !== 'string') return undefined;
-  const files = Array.isArray(v.files) ? v.files.filter((f): f is string => typeof f === 'string') : [];
-  return { files, refused: v.refused === true, message: v.message };
+  const strings = (a: unknown): string[] => (Array.isArray(a) ? a.filter((f): f is string => typeof f === 'string') : []);
+  return { files: strings(v.files), unchanged: strings(v.unchanged), refused: v.refused === true, message: v.message };
 }
 
 /** The report of one build. `what` names what was built ("the workspace", "group Anlage"). */
@@ -49,10 +51,10 @@ export function describeBuild(value: unknown, what = 'the workspace'): BuildRepo
   const lines = [`build of ${what}: ${message}`];
   if (answer.refused) {
     lines.push('  nothing was written; the errors are in the Problems panel');
-  } else if (answer.files.length === 0) {
-    lines.push('  no file changed');
   } else {
     for (const f of answer.files) lines.push(`  wrote ${f}`);
+    for (const f of answer.unchanged) lines.push(`  unchanged ${f}`);
+    if (answer.files.length === 0 && answer.unchanged.length === 0) lines.push('  no file written');
   }
   return { severity: answer.refused ? 'error' : 'info', notification: `HiGraph: ${message}`, lines };
 }

@@ -232,7 +232,7 @@ async function playTrace(arg?: unknown): Promise<void> {
 
 /**
  * "HiGraph: Build" (`higraph.buildWorkspace`): asks the server to build the whole workspace
- * (`higraph.build` without an argument: all targets of the workspace's configuration) and
+ * (`higraph.build` without an argument: every target) and
  * shows its one-line summary; the "HiGraph" output channel lists the files written.
  */
 async function buildWorkspace(): Promise<void> {

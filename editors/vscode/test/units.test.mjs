@@ -226,9 +226,13 @@ test('a build report: the summary as notification, one output line per file writ
     '  wrote build/Bohrmaschine.awl',
     '  wrote build/symbols.sdf',
   ]);
-  assert.deepEqual(m.describeBuild({ files: [], refused: false, message: 'built 1 group: up to date' }).lines, [
-    'build of the workspace: built 1 group: up to date',
-    '  no file changed',
+  assert.deepEqual(
+    m.describeBuild({ files: ['build/Anlage.awl'], unchanged: ['build/symbols.sdf'], refused: false, message: 'built 1 group: 1 file written, 1 unchanged' }).lines,
+    ['build of the workspace: built 1 group: 1 file written, 1 unchanged', '  wrote build/Anlage.awl', '  unchanged build/symbols.sdf'],
+  );
+  assert.deepEqual(m.describeBuild({ files: [], refused: false, message: 'nothing to build' }).lines, [
+    'build of the workspace: nothing to build',
+    '  no file written',
   ]);
 });
 
@@ -248,7 +252,7 @@ test('a malformed answer is reported, never thrown', () => {
     assert.match(r.notification, /no answer the extension understands/);
   }
   // non-string file entries are dropped, a missing `refused` means false
-  assert.deepEqual(m.parseBuildAnswer({ files: ['a.awl', 7, null], message: 'ok' }), { files: ['a.awl'], refused: false, message: 'ok' });
+  assert.deepEqual(m.parseBuildAnswer({ files: ['a.awl', 7, null], message: 'ok' }), { files: ['a.awl'], unchanged: [], refused: false, message: 'ok' });
 });
 
 test('the build argument names a group or chart; none is the workspace', () => {
