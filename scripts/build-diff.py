@@ -347,6 +347,8 @@ def run_scenario(sc, base, src_dir=None):
     except Exception as e:
         raise Mismatch("Awlsim does not compile the generated source: %s" % short_error(e))
     cycles = sc["cycles"]
+    changes = 0
+    prev = None
     for k, c in enumerate(cycles, start=1):
         for w in c["before"]:
             if "restart" in w:
@@ -364,6 +366,9 @@ def run_scenario(sc, base, src_dir=None):
             raise Mismatch(where(sc, k, dt, cycles) + "Awlsim stops with an error: %s"
                            % short_error(e))
         exp = c["expect"]
+        if prev is not None:
+            changes += sum(a != b for gs, ps in zip(exp["states"], prev) for a, b in zip(gs, ps))
+        prev = exp["states"]
         for gi, g in enumerate(sc["groups"]):
             for inst, want in zip(g["instances"], exp["states"][gi]):
                 _, got = plc.field(gi, inst + ".CurrentState")
@@ -385,7 +390,7 @@ def run_scenario(sc, base, src_dir=None):
                     end -= 1
                 d = bit_diff(area, ours, bytes(raw[:end]))
                 raise Mismatch(where(sc, k, dt, cycles) + d)
-    return len(cycles)
+    return len(cycles), changes
 
 
 def short_error(e):
@@ -425,13 +430,14 @@ def one(job):
                 name, sc["build_error"]), 0
         return "skipped", "SKIPPED: %s: %s" % (name, sc["build_error"]), 0
     try:
-        n = run_scenario(sc, base, src_dir)
+        n, changes = run_scenario(sc, base, src_dir)
     except Mismatch as m:
         return "failed", "FAILED: %s\n  %s" % (name, str(m)), 0
     except Exception as e:  # a bug of the harness: report it, do not hide it
         return "failed", "FAILED: %s\n  the harness raised %s: %s" % (
             name, type(e).__name__, short_error(e)), 0
-    return "ok", "ok: %s: %d cycles agree (%.1f s)" % (name, n, time.time() - t), n
+    return "ok", "ok: %s: %d cycles agree, %d state changes (%.1f s)" % (
+        name, n, changes, time.time() - t), n
 
 
 def main():
