@@ -46,6 +46,7 @@ from awlsim_loader.common import *  # noqa: F401,F403
 from awlsim_loader.core import *  # noqa: F401,F403
 from awlsim_loader.awlcompiler import *  # noqa: F401,F403
 import awlsim.core.labels as awl_labels
+import awlsim.core.obtemp as awl_obtemp
 from awlsim.core.operatortypes import AwlOperatorTypes
 
 AREA_SIZE = 65536
@@ -78,6 +79,19 @@ def _resolve_labels(cls, insns):
 
 
 awl_labels.AwlLabel.resolveLabels = classmethod(_resolve_labels)
+
+# OB1_SCAN_1 for the generated OB 1 (`--with-ob1`): Awlsim always writes 3 ("normal cycle");
+# the harness makes it 1 in the first cycle after a start or restart, as a CPU does.
+SCAN_1 = [3]
+_ob1_generate = awl_obtemp.OB1TempPresets.generate
+
+
+def _ob1_presets(self, localdata):
+    _ob1_generate(self, localdata)
+    localdata[1] = SCAN_1[0]
+
+
+awl_obtemp.OB1TempPresets.generate = _ob1_presets
 
 
 class Mismatch(Exception):
@@ -187,7 +201,7 @@ class Plc:
             if len(m) != 1:
                 raise Mismatch("%s: expected exactly one FUNCTION FC n, found %d" % (name, len(m)))
             fcs.append(int(m[0]))
-            if re.search(r"^\s*ORGANIZATION_BLOCK", src, re.M | re.I):
+            if not sc.get("generated_ob1") and re.search(r"^\s*ORGANIZATION_BLOCK", src, re.M | re.I):
                 raise Mismatch("%s: has an ORGANIZATION_BLOCK although built without --with-ob1"
                                % name)
             dbs.update(int(n) for n in re.findall(r"^\s*DATA_BLOCK\s+DB\s*(\d+)", src, re.M | re.I))
@@ -195,7 +209,14 @@ class Plc:
         stubs, self.stubbed = stub_blocks(text)
         dbs.update(int(n) for n in re.findall(r"DATA_BLOCK DB (\d+)", stubs.decode()))
         self.hdb = max(dbs | {0}) + 1
-        text += stubs + harness_source(fcs, self.hdb)
+        self.generated_ob1 = bool(sc.get("generated_ob1"))
+        if self.generated_ob1:
+            if not re.search(r"^\s*ORGANIZATION_BLOCK\s+OB\s*1\b", text.decode("cp1252"),
+                             re.M | re.I):
+                raise Mismatch("built --with-ob1, the source has no ORGANIZATION_BLOCK OB 1")
+            text += stubs
+        else:
+            text += stubs + harness_source(fcs, self.hdb)
         self.text = text
         project = Project.fromProjectOrRawAwlData(text)
         parser = AwlParser()
@@ -212,6 +233,8 @@ class Plc:
         specs.setNrFlags(AREA_SIZE)
         specs.setNrTimers(2048)
         specs.setNrCounters(2048)
+        if sc.get("generated_ob1"):
+            cpu.enableObTempPresets(True)
         self.sim.load(parser.getParseTree())
         self.sim.build()
         cpu.updateTimestamp = self._update_timestamp
@@ -292,7 +315,10 @@ class Plc:
                 mem[b + i] = (bits >> (8 * (n - 1 - i))) & 0xFF
 
     def set_init_sd(self, v):
-        self.cpu.getDB(self.hdb).structInstance.memory.getRawDataBytes()[0] = 1 if v else 0
+        if self.generated_ob1:
+            SCAN_1[0] = 1 if v else 3
+        else:
+            self.cpu.getDB(self.hdb).structInstance.memory.getRawDataBytes()[0] = 1 if v else 0
 
 
 def bit_diff(area, ours, theirs):

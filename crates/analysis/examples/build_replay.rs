@@ -249,12 +249,12 @@ fn machine_strings(root: &Path) -> Vec<String> {
 /// The outcome of building one workspace: the files by name, or why there are none.
 type Built = Result<BTreeMap<String, Vec<u8>>, String>;
 
-fn build(files: &[(String, String)]) -> Built {
+fn build(files: &[(String, String)], with_ob1: bool) -> Built {
     let h = host(files);
     let analysis = h.analysis();
     let options = BuildOptions {
         target: Target::Awl,
-        with_ob1: false,
+        with_ob1,
         absolute: true,
     };
     let result = catch_unwind(AssertUnwindSafe(|| analysis.build(&[], &options)));
@@ -422,8 +422,15 @@ fn workspace(
     seed: u64,
     secrets: &[String],
 ) {
-    let built = build(files);
-    let again = build(files);
+    let built = build(files, false);
+    let again = build(files, false);
+    // The examples also with the generated OB 1 (`--with-ob1`), replayed for single-group
+    // scenarios: Awlsim's OB1_SCAN_1 is then 1 in the first cycle after a (re)start.
+    let built_ob1 = if example {
+        build(files, true)
+    } else {
+        Err(String::new())
+    };
     let international = files.iter().any(|(path, text)| {
         path.ends_with("higraph.toml")
             && text.lines().any(|l| {
@@ -440,6 +447,31 @@ fn workspace(
             let _ = std::fs::write(dir.join(file), bytes);
         }
     }
+    if let Ok(built) = &built_ob1 {
+        let _ = std::fs::create_dir_all(dir.join("ob1"));
+        for (file, bytes) in built {
+            let _ = std::fs::write(dir.join("ob1").join(file), bytes);
+        }
+    }
+    let with_ob1 = |scenario: &Json| -> Option<Json> {
+        let mut v = scenario.clone();
+        let obj = v.as_object_mut()?;
+        if obj.contains_key("skip") || obj.get("groups")?.as_array()?.len() != 1 {
+            return None;
+        }
+        let title = format!("{} (the generated OB 1)", obj.get("name")?.as_str()?);
+        obj.insert("name".into(), json!(title));
+        obj.insert("generated_ob1".into(), json!(true));
+        obj.insert("build_error".into(), json!(built_ob1.as_ref().err()));
+        let group = obj
+            .get_mut("groups")?
+            .as_array_mut()?
+            .first_mut()?
+            .as_object_mut()?;
+        let awl = format!("ob1/{}", group.get("awl")?.as_str()?);
+        group.insert("awl".into(), json!(awl));
+        Some(v)
+    };
     let h = host(files);
     let analysis = h.analysis();
     let Ok(lowered) = analysis.lower_workspace() else {
@@ -469,6 +501,9 @@ fn workspace(
             };
             let scenario = test_scenario(name, &title, &lowered.program, &built, mnemonic);
             out.write(&slug, &scenario);
+            if let Some(v) = with_ob1(&scenario) {
+                out.write(&format!("{slug}-ob1"), &v);
+            }
         }
     }
     // Random input sequences, one per group (and for the examples a second one across the
@@ -487,12 +522,15 @@ fn workspace(
         let gname = &program.groups[g].name;
         let title = format!("{name}: random inputs over group {gname} (seed {seed})");
         let slug = format!("{name}-random-{gname}");
-        out.write(
-            &slug,
-            &random_scenario(
-                name, &title, program, g, cycles, seed, T0_MS, example, &built, mnemonic,
-            ),
+        let scenario = random_scenario(
+            name, &title, program, g, cycles, seed, T0_MS, example, &built, mnemonic,
         );
+        out.write(&slug, &scenario);
+        if example {
+            if let Some(v) = with_ob1(&scenario) {
+                out.write(&format!("{slug}-ob1"), &v);
+            }
+        }
         if example {
             let title = format!(
                 "{name}: random inputs over group {gname} (seed {}), TIME_TCK wraps",
