@@ -526,10 +526,8 @@ fn workspace(
             name, &title, program, g, cycles, seed, T0_MS, example, &built, mnemonic,
         );
         out.write(&slug, &scenario);
-        if example {
-            if let Some(v) = with_ob1(&scenario) {
-                out.write(&format!("{slug}-ob1"), &v);
-            }
+        if let Some(v) = with_ob1(&scenario).filter(|_| example) {
+            out.write(&format!("{slug}-ob1"), &v);
         }
         if example {
             let title = format!(
