@@ -59,7 +59,7 @@ fn args() -> Result<Args, String> {
     let mut a = Args {
         out: PathBuf::new(),
         cycles: 300,
-        workload_cycles: 12,
+        workload_cycles: 30,
         seed: 1,
         only: None,
         extra: Vec::new(),
@@ -105,7 +105,7 @@ fn main() {
     // Panics of the generator are caught and reported per workspace; keep stderr quiet.
     std::panic::set_hook(Box::new(|_| {}));
     let root = PathBuf::from(format!("{}/../..", env!("CARGO_MANIFEST_DIR")));
-    let mut workspaces: Vec<(String, Vec<(String, String)>, bool)> = Vec::new();
+    let mut workspaces: Vec<(String, Files, bool)> = Vec::new();
     let mut names: Vec<String> = std::fs::read_dir(root.join("examples"))
         .map(|d| {
             d.filter_map(|e| e.ok())
@@ -155,6 +155,9 @@ fn main() {
     }
     println!("build_replay: {} scenarios in {}", out.n, out.dir.display());
 }
+
+/// A workspace's files: (workspace-relative path, text).
+type Files = Vec<(String, String)>;
 
 struct Out {
     dir: PathBuf,
@@ -232,10 +235,10 @@ fn machine_strings(root: &Path) -> Vec<String> {
     if let Ok(root) = root.canonicalize() {
         out.push(root.to_string_lossy().into_owned());
     }
-    if let Ok(home) = std::env::var("HOME") {
-        if home.len() > 1 {
-            out.push(home);
-        }
+    if let Ok(home) = std::env::var("HOME")
+        && home.len() > 1
+    {
+        out.push(home);
     }
     if let Ok(dir) = std::env::current_dir() {
         out.push(dir.to_string_lossy().into_owned());
@@ -246,25 +249,71 @@ fn machine_strings(root: &Path) -> Vec<String> {
 /// The outcome of building one workspace: the files by name, or why there are none.
 type Built = Result<BTreeMap<String, Vec<u8>>, String>;
 
-fn build(files: &[(String, String)]) -> Built {
+fn build(files: &[(String, String)], with_ob1: bool) -> Built {
     let h = host(files);
     let analysis = h.analysis();
     let options = BuildOptions {
         target: Target::Awl,
-        with_ob1: false,
+        with_ob1,
         absolute: true,
     };
     let result = catch_unwind(AssertUnwindSafe(|| analysis.build(&[], &options)));
     match result {
         Err(panic) => {
-            let text = panic
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "a panic".into());
-            Err(format!("the generator panicked: {text}"))
+            // The orchestrator (or a part it calls, like the HG81xx rules) is not finished:
+            // generate each group's source directly, and say so.
+            let why = panic_text(&panic);
+            let errors = analysis
+                .diagnostics()
+                .iter()
+                .flat_map(|(_, d)| d)
+                .filter(|d| d.severity == higraph_analysis::Severity::Error)
+                .count();
+            if errors > 0 {
+                return Err(format!(
+                    "build refused ({errors} error-level diagnostics; checked here because \
+                     Analysis::build panicked: {why})"
+                ));
+            }
+            let mut files = BTreeMap::new();
+            let Ok(lowered) = analysis.lower_workspace() else {
+                return Err("cancelled".into());
+            };
+            for group in &lowered.program.groups {
+                let one = catch_unwind(AssertUnwindSafe(|| {
+                    analysis.group_source(&group.name, &options)
+                }));
+                match one {
+                    Err(p) => {
+                        return Err(format!(
+                            "Analysis::build panicked ({why}), and the generator panicked on \
+                             group {}: {}",
+                            group.name,
+                            panic_text(&p)
+                        ));
+                    }
+                    Ok(Ok(Some(Ok((name, bytes, _))))) => {
+                        files.insert(name, bytes);
+                    }
+                    Ok(Ok(Some(Err(e)))) => {
+                        return Err(format!("the generator refused group {}: {e}", group.name));
+                    }
+                    Ok(Ok(None)) | Ok(Err(_)) => {
+                        return Err(format!("no source for group {}", group.name));
+                    }
+                }
+            }
+            eprintln!(
+                "build_replay: Analysis::build panicked ({why}); the sources come from \
+                 Analysis::group_source"
+            );
+            Ok(files)
         }
         Ok(Err(_)) => Err("the build was cancelled".into()),
+        Ok(Ok(r)) if r.failure.is_some() => Err(format!(
+            "the generator failed: {}",
+            r.failure.unwrap_or_default()
+        )),
         Ok(Ok(r)) if !r.refused.is_empty() => Err(format!(
             "build refused (error-level diagnostics in {})",
             r.refused.join(", ")
@@ -273,8 +322,23 @@ fn build(files: &[(String, String)]) -> Built {
     }
 }
 
+fn panic_text(panic: &Box<dyn std::any::Any + Send>) -> String {
+    panic
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "a panic".into())
+}
+
 /// The determinism findings of two builds (`export.md` §2).
-fn determinism(name: &str, a: &Built, b: &Built, secrets: &[String], out: &mut String) {
+fn determinism(
+    name: &str,
+    inputs: &[(String, String)],
+    a: &Built,
+    b: &Built,
+    secrets: &[String],
+    out: &mut String,
+) {
     let (Ok(a), Ok(b)) = (a, b) else {
         if a.is_ok() != b.is_ok() {
             let _ = writeln!(out, "{name}: one build went through, the other did not");
@@ -301,17 +365,23 @@ fn determinism(name: &str, a: &Built, b: &Built, secrets: &[String], out: &mut S
                 let _ = writeln!(out, "{name}/{file}: contains the machine path {s}");
             }
         }
-        if let Some(stamp) = time_stamp(&text) {
+        // A date or time the input does not contain (a constant or comment copied from the
+        // text is not a time stamp).
+        if let Some(stamp) = time_stamps(&text)
+            .into_iter()
+            .find(|s| !inputs.iter().any(|(_, t)| t.contains(s)))
+        {
             let _ = writeln!(out, "{name}/{file}: contains a time stamp: {stamp}");
         }
     }
 }
 
-/// A date `YYYY-MM-DD` or `YYYY/MM/DD` with a year 19xx/20xx, or a clock time `HH:MM:SS`
-/// (STEP 7 sources need neither).
-fn time_stamp(text: &str) -> Option<String> {
+/// The dates `YYYY-MM-DD` or `YYYY/MM/DD` (a year 19xx/20xx) and clock times `HH:MM:SS` of a
+/// text, each as the date or time alone (STEP 7 sources need neither).
+fn time_stamps(text: &str) -> Vec<&str> {
     let b = text.as_bytes();
     let digit = |i: usize| b.get(i).is_some_and(|c| c.is_ascii_digit());
+    let mut out = Vec::new();
     for i in 0..b.len() {
         let at_word = i == 0 || !b[i - 1].is_ascii_alphanumeric();
         if !at_word {
@@ -334,12 +404,13 @@ fn time_stamp(text: &str) -> Option<String> {
             && b.get(i + 5) == Some(&b':')
             && digit(i + 6)
             && digit(i + 7);
-        if date || clock {
-            let end = (i + 19).min(b.len());
-            return Some(String::from_utf8_lossy(&b[i..end]).into_owned());
+        if date {
+            out.extend(text.get(i..i + 10));
+        } else if clock {
+            out.extend(text.get(i..i + 8));
         }
     }
-    None
+    out
 }
 
 fn workspace(
@@ -351,8 +422,15 @@ fn workspace(
     seed: u64,
     secrets: &[String],
 ) {
-    let built = build(files);
-    let again = build(files);
+    let built = build(files, false);
+    let again = build(files, false);
+    // The examples also with the generated OB 1 (`--with-ob1`), replayed for single-group
+    // scenarios: Awlsim's OB1_SCAN_1 is then 1 in the first cycle after a (re)start.
+    let built_ob1 = if example {
+        build(files, true)
+    } else {
+        Err(String::new())
+    };
     let international = files.iter().any(|(path, text)| {
         path.ends_with("higraph.toml")
             && text.lines().any(|l| {
@@ -361,7 +439,7 @@ fn workspace(
             })
     });
     let mnemonic = if international { "en" } else { "de" };
-    determinism(name, &built, &again, secrets, &mut out.determinism);
+    determinism(name, files, &built, &again, secrets, &mut out.determinism);
     let dir = out.dir.join(name);
     let _ = std::fs::create_dir_all(&dir);
     if let Ok(built) = &built {
@@ -369,6 +447,31 @@ fn workspace(
             let _ = std::fs::write(dir.join(file), bytes);
         }
     }
+    if let Ok(built) = &built_ob1 {
+        let _ = std::fs::create_dir_all(dir.join("ob1"));
+        for (file, bytes) in built {
+            let _ = std::fs::write(dir.join("ob1").join(file), bytes);
+        }
+    }
+    let with_ob1 = |scenario: &Json| -> Option<Json> {
+        let mut v = scenario.clone();
+        let obj = v.as_object_mut()?;
+        if obj.contains_key("skip") || obj.get("groups")?.as_array()?.len() != 1 {
+            return None;
+        }
+        let title = format!("{} (the generated OB 1)", obj.get("name")?.as_str()?);
+        obj.insert("name".into(), json!(title));
+        obj.insert("generated_ob1".into(), json!(true));
+        obj.insert("build_error".into(), json!(built_ob1.as_ref().err()));
+        let group = obj
+            .get_mut("groups")?
+            .as_array_mut()?
+            .first_mut()?
+            .as_object_mut()?;
+        let awl = format!("ob1/{}", group.get("awl")?.as_str()?);
+        group.insert("awl".into(), json!(awl));
+        Some(v)
+    };
     let h = host(files);
     let analysis = h.analysis();
     let Ok(lowered) = analysis.lower_workspace() else {
@@ -398,6 +501,9 @@ fn workspace(
             };
             let scenario = test_scenario(name, &title, &lowered.program, &built, mnemonic);
             out.write(&slug, &scenario);
+            if let Some(v) = with_ob1(&scenario) {
+                out.write(&format!("{slug}-ob1"), &v);
+            }
         }
     }
     // Random input sequences, one per group (and for the examples a second one across the
@@ -408,7 +514,7 @@ fn workspace(
             &skipped(
                 &format!("{name}: no group"),
                 "the workspace has no group",
-                false,
+                true,
             ),
         );
     }
@@ -416,12 +522,13 @@ fn workspace(
         let gname = &program.groups[g].name;
         let title = format!("{name}: random inputs over group {gname} (seed {seed})");
         let slug = format!("{name}-random-{gname}");
-        out.write(
-            &slug,
-            &random_scenario(
-                name, &title, program, g, cycles, seed, T0_MS, example, &built, mnemonic,
-            ),
+        let scenario = random_scenario(
+            name, &title, program, g, cycles, seed, T0_MS, example, &built, mnemonic,
         );
+        out.write(&slug, &scenario);
+        if let Some(v) = with_ob1(&scenario).filter(|_| example) {
+            out.write(&format!("{slug}-ob1"), &v);
+        }
         if example {
             let title = format!(
                 "{name}: random inputs over group {gname} (seed {}), TIME_TCK wraps",
@@ -514,10 +621,10 @@ fn layout(program: &Program, groups: &[u32], built: &Built) -> Result<Layout, St
     for &g in groups {
         let group = &program.groups[g as usize];
         let awl = format!("{}.awl", group.name);
-        if let Ok(built) = built {
-            if !built.contains_key(&awl) {
-                return Err(format!("the build wrote no {awl}"));
-            }
+        if let Ok(built) = built
+            && !built.contains_key(&awl)
+        {
+            return Err(format!("the build wrote no {awl}"));
         }
         let mut instances = Vec::new();
         let mut msgs = Vec::new();
@@ -729,15 +836,14 @@ fn stimulus(program: &Program, group: u32) -> (Vec<Place>, Vec<Place>) {
     let mut words = Vec::new();
     let mut seen = std::collections::HashSet::new();
     let mut add = |place: &Place| {
-        if let Place::Mem { area, byte, width } = place {
-            if matches!(area, MemArea::Input | MemArea::Memory)
-                && seen.insert((*area, *byte, *width))
-            {
-                match width {
-                    Width::Bit(_) => bits.push(place.clone()),
-                    Width::Word => words.push(place.clone()),
-                    _ => {}
-                }
+        if let Place::Mem { area, byte, width } = place
+            && matches!(area, MemArea::Input | MemArea::Memory)
+            && seen.insert((*area, *byte, *width))
+        {
+            match width {
+                Width::Bit(_) => bits.push(place.clone()),
+                Width::Word => words.push(place.clone()),
+                _ => {}
             }
         }
     };
@@ -818,12 +924,11 @@ fn random_scenario(
     let mut rng = Rng(seed ^ (group as u64).wrapping_mul(0x1000_0001));
     let mut out = Vec::new();
     let write = |sim: &mut Sim<'_>, place: &Place, bits: u32, before: &mut Vec<Json>| {
-        if sim.machine.write(place, bits).is_ok() {
-            if let Ok(w) = write_json(place, bits, &lay) {
-                if !w.is_null() {
-                    before.push(w);
-                }
-            }
+        if sim.machine.write(place, bits).is_ok()
+            && let Ok(w) = write_json(place, bits, &lay)
+            && !w.is_null()
+        {
+            before.push(w);
         }
     };
     for k in 1..=cycles {

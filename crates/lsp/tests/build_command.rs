@@ -232,10 +232,17 @@ fn errors_stop_the_build_before_anything_is_written() {
 
     // So does an error in a symbol table, also when only the group's file is named.
     let tree = workspace();
-    tree.file("symbole.higraph", "symbols < Eins : A 1.0; Zwei : A 1.0; >\n");
+    tree.file(
+        "symbole.higraph",
+        "symbols < Eins : A 1.0; Zwei : A 1.0; >\n",
+    );
     let run = build(&tree, &["plant.higraph"]);
     assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
-    assert!(run.stdout.contains("--> symbole.higraph:"), "{}", run.stdout);
+    assert!(
+        run.stdout.contains("--> symbole.higraph:"),
+        "{}",
+        run.stdout
+    );
     assert!(!tree.path().join("build").exists(), "nothing is written");
 
     // An error in a test does not stop a build.
