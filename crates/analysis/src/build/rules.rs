@@ -503,11 +503,20 @@ fn symbol_encoding(db: &dyn salsa::Database, index: &GlobalIndex, name: &str) ->
             let Some(root) = db::item_root(db, ItemLoc::new(db, at.file, item)) else {
                 return Vec::new();
             };
-            // The declaration: the symbol node around the name token.
-            let Some(decl) = root
-                .descendants()
-                .filter_map(ast::Symbol::cast)
-                .find(|s| s.syntax().text_range().contains_range(at.range))
+            // The declaration: the symbol node around the name token, found from the name
+            // upwards (a walk of the whole table per symbol would be quadratic in a table of
+            // thousands of symbols).
+            if !root.text_range().contains_range(at.range) {
+                return Vec::new();
+            }
+            let start = match root.covering_element(at.range) {
+                higraph_syntax::rowan::NodeOrToken::Node(node) => Some(node),
+                higraph_syntax::rowan::NodeOrToken::Token(token) => token.parent(),
+            };
+            let Some(decl) = start
+                .into_iter()
+                .flat_map(|node| node.ancestors())
+                .find_map(ast::Symbol::cast)
             else {
                 return Vec::new();
             };
