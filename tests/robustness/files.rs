@@ -651,3 +651,35 @@ fn the_server_refuses_documents_over_the_size_limit_and_keeps_answering() {
     );
     assert_eq!(server.shutdown_and_exit(), 0);
 }
+
+/// `build` writes into its output folder by rename: FIFOs named like its files (and like its
+/// marker) are replaced without being opened, a FIFO as the output folder is refused, and a
+/// link named like an output file is replaced, never written through to the file outside.
+#[test]
+fn build_never_blocks_on_special_files_and_never_writes_through_a_link() {
+    const GROUP: &str = "graph G <\n  out < Q : BOOL; >\n  state 0 < C: = Q; >\n  trans any->0 prio 1 < U INIT_SD; >\n>\ngroup Gruppe fc FC 1 db DB 1 <\n  instance I : G < Q := A 0.0; >\n>\n";
+    let tree = Tree::new();
+    tree.file("ws/a.higraph", GROUP)
+        .file("ws/build/keep.txt", "keep")
+        .fifo("ws/build/Gruppe.awl")
+        .fifo("ws/build/.higraph-build")
+        .file("outside/target.sdf", "outside");
+    tree.link(
+        "ws/build/symbols.sdf",
+        tree.path().join("outside/target.sdf"),
+    );
+    let ws = tree.ws();
+    let built = run(&ws, &["build"]);
+    assert_eq!(built.status, 0, "{}", built.all());
+    for name in ["Gruppe.awl", "symbols.sdf", ".higraph-build"] {
+        let meta = fs::symlink_metadata(ws.join("build").join(name)).expect("written");
+        assert!(meta.is_file(), "{name} is a regular file now");
+    }
+    assert_eq!(tree.read("outside/target.sdf"), "outside");
+    assert_eq!(tree.read("ws/build/keep.txt"), "keep");
+
+    let tree = Tree::new();
+    tree.file("ws/a.higraph", GROUP).fifo("ws/build");
+    let refused = run(&tree.ws(), &["build"]);
+    assert_eq!(refused.status, 2, "{}", refused.all());
+}

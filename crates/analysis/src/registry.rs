@@ -1114,6 +1114,12 @@ pub const RULES: &[Rule] = &[
         "FC {n} is declared as an external block by 'block {x}'; building group {g} would overwrite it",
     ),
     rule(
+        "HG8106",
+        Severity::Error,
+        false,
+        "'{x}' is a keyword of IEC 61131-3; PLCopen tools cannot read it as a name",
+    ),
+    rule(
         "HG9001",
         Severity::Error,
         false,

@@ -330,7 +330,7 @@ fn differential_with(
     for _ in 0..cycles {
         let mut sets = Vec::new();
         for (i, &(area, byte, bit)) in inputs.iter().enumerate() {
-            if rng.next() % 4 == 0 {
+            if rng.next().is_multiple_of(4) {
                 values[i] = !values[i];
                 let place = Place::Mem {
                     area,
@@ -446,4 +446,124 @@ fn awlsim_symbolic() {
         300,
         false,
     );
+}
+
+fn load_text(text: &str) -> AnalysisHost {
+    let mut data = WorkspaceData::default();
+    data.files.push((
+        "w.higraph".to_owned(),
+        FileContents::from_bytes(text.as_bytes().to_vec()),
+    ));
+    let mut host = AnalysisHost::new();
+    host.load(data);
+    host
+}
+
+#[test]
+fn calls_are_written_as_called() {
+    let host = load_text(
+        r#"
+symbols < Dosieren : FC 30; IDB : DB 21; Menge : MW 12 INT; >
+graph G <
+  in < Go : BOOL; K : INT; >
+  state 0 <
+    C:
+      CALL FB 20, DB 20 (Start := Go, Wert := K, Ziel := Menge);
+      CALL Dosieren (Menge := 5);
+      CALL FB 22, IDB;
+      U Go;
+      CC FC 10;
+  >
+  trans any->0 < U INIT_SD; >
+>
+group Gr fc FC 1 db DB 1 < instance I : G < Go := M 0.0; K := 7; > >
+"#,
+    );
+    let (_, bytes) = source(&host, "Gr", &ABSOLUTE);
+    let abs = text(&bytes);
+    assert!(abs.contains("      CALL  FB 20, DB 20 (\n"), "{abs}");
+    assert!(
+        abs.contains("           Start                    := M 0.0,\n"),
+        "{abs}"
+    );
+    // The constant actual K := 7 passes the member holding it.
+    assert!(
+        abs.contains("           Wert                     := DB1.DBW "),
+        "{abs}"
+    );
+    assert!(
+        abs.contains("           Ziel                     := MW 12);\n"),
+        "{abs}"
+    );
+    assert!(
+        abs.contains("      CALL  FC 30 (\n           Menge                    := 5);\n"),
+        "{abs}"
+    );
+    assert!(abs.contains("      CALL  FB 22, DB 21;\n"), "{abs}");
+    assert!(abs.contains("      CC    FC 10;\n"), "{abs}");
+    assert!(abs.contains("    K : INT := 7;"), "{abs}");
+    let symbolic = BuildOptions {
+        absolute: false,
+        ..ABSOLUTE
+    };
+    let (_, bytes) = source(&host, "Gr", &symbolic);
+    let sym = text(&bytes);
+    assert!(sym.contains("      CALL  \"Dosieren\" (\n"), "{sym}");
+    assert!(sym.contains("      CALL  FB 22, \"IDB\";\n"), "{sym}");
+    assert!(
+        sym.contains("           Ziel                     := \"Menge\");\n"),
+        "{sym}"
+    );
+}
+
+#[test]
+fn unencodable_comments_are_refused() {
+    let host = load_text(
+        "graph G < state 0 \"\u{2192} Start\" < > trans any->0 < U INIT_SD; > >\n\
+         group Gr fc FC 1 db DB 1 \"Pfeil \u{2192}\" < instance I : G < > >\n",
+    );
+    let err = host
+        .analysis()
+        .group_source("Gr", &ABSOLUTE)
+        .unwrap()
+        .unwrap()
+        .unwrap_err();
+    assert!(err.contains("U+2192"), "{err}");
+}
+
+#[test]
+fn max_group_generates_and_runs() {
+    let files = higraph_workload::max_group(1);
+    let mut data = WorkspaceData::default();
+    let mut groups = Vec::new();
+    for (path, text) in files {
+        for line in text.lines() {
+            if let Some(rest) = line.trim_start().strip_prefix("group ") {
+                groups.push(rest.split_whitespace().next().unwrap_or("").to_owned());
+            }
+        }
+        if path.ends_with(".higraph") {
+            data.files
+                .push((path, FileContents::from_bytes(text.into_bytes())));
+        } else if path == "higraph.toml" {
+            data.config = Some((path, FileContents::from_bytes(text.into_bytes())));
+        }
+    }
+    let mut host = AnalysisHost::new();
+    host.load(data);
+    for g in &groups {
+        let t = std::time::Instant::now();
+        let (_, bytes) = source(&host, g, &ABSOLUTE);
+        std::fs::write(
+            std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("max-group.awl"),
+            &bytes,
+        )
+        .unwrap();
+        eprintln!(
+            "{g}: {} bytes, {} lines in {:?}",
+            bytes.len(),
+            bytes.split(|&b| b == b'\n').count(),
+            t.elapsed()
+        );
+    }
 }

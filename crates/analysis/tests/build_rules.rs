@@ -205,3 +205,67 @@ fn severities_and_suppressions_apply() {
     // The graph's comment is reported, the suppressed instance comment and HG8104 are not.
     assert_eq!(codes, ["HG8102"], "{}", render(&lines));
 }
+
+fn load(files: Vec<(String, String)>) -> higraph_analysis::AnalysisHost {
+    let mut data = higraph_analysis::WorkspaceData::default();
+    for (path, text) in files {
+        let contents = higraph_analysis::FileContents::from_bytes(text.into_bytes());
+        if path.ends_with(".higraph") {
+            data.files.push((path, contents));
+        } else if path == "higraph.toml" {
+            data.config = Some((path, contents));
+        }
+    }
+    let mut host = higraph_analysis::AnalysisHost::new();
+    host.load(data);
+    host
+}
+
+fn example(dir: &str) -> Vec<(String, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(dir);
+    let mut files = Vec::new();
+    let mut stack = vec![root.clone()];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir).expect("example directory") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let relative = path
+                    .strip_prefix(&root)
+                    .expect("inside the example")
+                    .to_string_lossy()
+                    .replace('\\', "/");
+                files.push((relative, fs::read_to_string(&path).expect("readable")));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The examples and the generated workloads are meant to be built: no build rule reports an
+/// error or a warning in them (infos on chart logic PLCopen cannot express are expected).
+#[test]
+fn the_examples_and_workloads_are_buildable() {
+    for (name, files) in [
+        ("drilling", example("drilling")),
+        ("mixer", example("mixer")),
+        ("plant", higraph_workload::plant(1)),
+        ("max-group", higraph_workload::max_group(1)),
+    ] {
+        let host = load(files);
+        let diagnostics = host
+            .analysis()
+            .build_diagnostics(Target::All)
+            .expect("not cancelled");
+        let serious: Vec<_> = diagnostics
+            .iter()
+            .filter(|(_, d)| d.severity != Severity::Info)
+            .map(|(f, d)| format!("{f:?} {} {}", d.code, d.message))
+            .collect();
+        assert!(serious.is_empty(), "{name}: {serious:#?}");
+    }
+}

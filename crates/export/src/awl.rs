@@ -58,7 +58,7 @@ use higraph_runtime::program::{
     Block, CellId, GraphId, Instr, OpCode, Operand, Origin, Place, Predef, Program, State, Target,
     TimeValue, Trans, VarIdx, Width,
 };
-use higraph_runtime::program::{Graph, Instance, MemArea};
+use higraph_runtime::program::{CounterId, Graph, Instance, MemArea, TimerId};
 use higraph_runtime::value::{Ty, Value};
 
 use crate::sdf;
@@ -119,6 +119,8 @@ pub struct Names {
     pub time_symbols: HashMap<(GraphId, u16, bool), String>,
     /// Per block of [`Program::blocks`]: the block called.
     pub blocks: Vec<BlockName>,
+    /// `CALL FB n, DB m`: the instance data block, by the call's origin.
+    pub call_dbs: HashMap<Origin, BlockName>,
     /// Global symbols by upper-case name.
     pub symbols: HashMap<String, SymbolInfo>,
     /// Per graph, per declared or predefined variable: its comment.
@@ -524,12 +526,11 @@ enum Access {
 }
 
 /// The generator's temporaries (`VAR_TEMP`, after the user's local bytes).
-const TEMPS: [(&str, Ty); 12] = [
+const TEMPS: [(&str, Ty); 11] = [
     ("HG_A1", Ty::Dword),
     ("HG_A2", Ty::Dword),
     ("HG_Now", Ty::Time),
     ("HG_Dt", Ty::Dint),
-    ("HG_V", Ty::Dint),
     ("HG_SW", Ty::Word),
     ("HG_S", Ty::Word),
     ("HG_C", Ty::Word),
@@ -576,6 +577,10 @@ struct Gen<'a> {
     used_keys: HashSet<String>,
     /// The instance whose turn is being written.
     inst: u32,
+    /// The shared entries into states the turn jumps to (state → label).
+    entries: std::collections::BTreeMap<u16, String>,
+    /// The last statement left RLO = 1 and /FC = 0 (a following glue `SET` is redundant).
+    rlo_one: bool,
 }
 
 /// Generates the source of group `group` of `program`.
@@ -612,6 +617,8 @@ pub fn generate(
         used_symbols: Vec::new(),
         used_keys: HashSet::new(),
         inst: 0,
+        entries: std::collections::BTreeMap::new(),
+        rlo_one: false,
     };
     // The FC and the DB lead the symbol table; they are not listed again.
     for b in [&names.fc, &names.db] {
@@ -793,11 +800,14 @@ impl<'a> Gen<'a> {
                 let db = self.sym(db);
                 format!("{db}.{}.{}", i.name, info.name)
             }
-            None => mem_text(
-                MemArea::Db(self.names.db.number as u16),
-                off.byte,
-                width_of(info.ty, off.bit),
-                self.opt.mnemonic,
+            None => note(
+                mem_text(
+                    MemArea::Db(self.names.db.number as u16),
+                    off.byte,
+                    width_of(info.ty, off.bit),
+                    self.opt.mnemonic,
+                ),
+                &format!("{}.{}", i.name, info.name),
             ),
         })
     }
@@ -814,11 +824,14 @@ impl<'a> Gen<'a> {
                     .iter()
                     .find(|g| g.0 == name)
                     .map_or(Ty::Bool, |g| g.1);
-                mem_text(
-                    MemArea::Db(self.names.db.number as u16),
-                    off.byte,
-                    width_of(ty, off.bit),
-                    self.opt.mnemonic,
+                note(
+                    mem_text(
+                        MemArea::Db(self.names.db.number as u16),
+                        off.byte,
+                        width_of(ty, off.bit),
+                        self.opt.mnemonic,
+                    ),
+                    name,
                 )
             }
         }
@@ -828,11 +841,14 @@ impl<'a> Gen<'a> {
         if self.opt.absolute {
             let off = self.temp_offsets[name];
             let ty = TEMPS.iter().find(|t| t.0 == name).map_or(Ty::Bool, |t| t.1);
-            mem_text(
-                MemArea::Local,
-                off.byte,
-                width_of(ty, off.bit),
-                self.opt.mnemonic,
+            note(
+                mem_text(
+                    MemArea::Local,
+                    off.byte,
+                    width_of(ty, off.bit),
+                    self.opt.mnemonic,
+                ),
+                name,
             )
         } else {
             format!("#{name}")
@@ -847,14 +863,31 @@ impl<'a> Gen<'a> {
         own: Option<(u32, VarIdx)>,
         ty: Option<Ty>,
     ) -> Result<String, Error> {
+        let global = matches!(
+            place,
+            Place::Mem { .. } | Place::Timer(_) | Place::Counter(_)
+        );
         if let Some(sym) = written
-            && !self.opt.absolute
-            && matches!(
-                place,
-                Place::Mem { .. } | Place::Timer(_) | Place::Counter(_)
-            )
+            && global
         {
-            return Ok(self.sym(sym));
+            if !self.opt.absolute {
+                return Ok(self.sym(sym));
+            }
+            let text = self.place_text(place, None, access, own, ty)?;
+            return Ok(note(text, &format!("\"{sym}\"")));
+        }
+        if let (Place::Timer(TimerId(n)) | Place::Counter(CounterId(n)), Some((i, v))) =
+            (place, own)
+            && *n >= 65536
+        {
+            let text = self.place_text(place, None, access, None, ty)?;
+            let inst = &self.group.instances[i as usize];
+            let var = self
+                .graph(inst)?
+                .vars
+                .get(v as usize)
+                .map_or("", |var| var.name.as_str());
+            return Ok(note(text, &format!("{}.{var}", inst.name)));
         }
         Ok(match place {
             Place::Mem { area, byte, width } => mem_text(*area, *byte, *width, self.opt.mnemonic),
@@ -959,19 +992,23 @@ impl<'a> Gen<'a> {
     }
 
     fn line(&mut self, op: &str, operand: &str) {
-        if operand.is_empty() {
-            let _ = writeln!(self.out, "      {op};");
-        } else {
-            let _ = writeln!(self.out, "      {op:<5} {operand};");
-        }
+        self.rlo_one = false;
+        self.out.push_str(&statement(op, operand));
     }
 
+    /// A glue statement. A `SET` is left out when the RLO is known to be 1 with /FC = 0
+    /// already (right after a `SET` and the `S`, `R`, `=` that follow it).
     fn g(&mut self, op: &'static str, operand: &str) {
-        let op = glue(op, self.opt.mnemonic);
-        self.line(op, operand);
+        if op == "SET" && self.rlo_one {
+            return;
+        }
+        let was = self.rlo_one;
+        self.line(glue(op, self.opt.mnemonic), operand);
+        self.rlo_one = op == "SET" || (was && matches!(op, "S" | "R" | "="));
     }
 
     fn put_label(&mut self, label: &str) {
+        self.rlo_one = false;
         let _ = writeln!(self.out, "{label}: NOP   0;");
     }
 
@@ -1070,25 +1107,34 @@ impl<'a> Gen<'a> {
                 .get(call.block as usize)
                 .cloned()
                 .ok_or_else(|| Error(format!("no block {}", call.block)))?;
-            let target = match (&block.symbol, self.opt.absolute) {
+            let mut target = match (&block.symbol, self.opt.absolute) {
                 (Some(sym), false) => self.sym(sym),
                 _ => format!("{} {}", block.kind, block.number),
             };
+            if let Some(idb) = self.names.call_dbs.get(&ins.origin).cloned() {
+                let idb = match (&idb.symbol, self.opt.absolute) {
+                    (Some(sym), false) => self.sym(sym),
+                    _ => format!("{} {}", idb.kind, idb.number),
+                };
+                target = format!("{target}, {idb}");
+            }
             if call.params.is_empty() || ins.op == Cc {
                 self.line(name, &target);
                 return Ok(());
             }
             let mut params = Vec::new();
             for (k, (formal, actual)) in call.params.iter().enumerate() {
+                // Read: a constant actual passes the member holding it.
                 let text =
-                    self.operand_text(L, actual, (ins.origin, k as u32 + 1), Access::Write)?;
+                    self.operand_text(L, actual, (ins.origin, k as u32 + 1), Access::Read)?;
                 params.push((formal.clone(), text));
             }
+            self.rlo_one = false;
             let _ = writeln!(self.out, "      {name:<5} {target} (");
             let n = params.len();
             for (k, (formal, text)) in params.into_iter().enumerate() {
                 let end = if k + 1 == n { ");" } else { "," };
-                let _ = writeln!(self.out, "           {formal:<24} := {text}{end}");
+                let _ = writeln!(self.out, "           {formal:<24} := {}{end}", bare(&text));
             }
             return Ok(());
         }
@@ -1117,6 +1163,7 @@ impl<'a> Gen<'a> {
         let m = self.opt.mnemonic;
         let _ = m;
         // Call start (§2.2, and Δ from the CPU clock).
+        self.rlo_one = false;
         let _ = writeln!(self.out, "NETWORK");
         let _ = writeln!(self.out, "TITLE = group call: clock, fresh DB, INIT_SD");
         let now = self.temp("HG_Now");
@@ -1124,8 +1171,13 @@ impl<'a> Gen<'a> {
         let last = self.glue_member("HG_Last");
         let init = self.glue_member("HG_Init");
         let fresh = self.temp("HG_Fresh");
+        self.rlo_one = false;
         let _ = writeln!(self.out, "      CALL  SFC 64 (");
-        let _ = writeln!(self.out, "           RET_VAL                  := {now});");
+        let _ = writeln!(
+            self.out,
+            "           RET_VAL                  := {});",
+            bare(&now)
+        );
         self.g("L", &now);
         self.g("L", &last);
         self.g("-D", "");
@@ -1167,11 +1219,8 @@ impl<'a> Gen<'a> {
         self.g("T", "STW");
         self.g("L", "0");
         // Step 2: INIT_SD.
-        let init_sd = if self.opt.absolute {
-            "#INIT_SD".to_owned()
-        } else {
-            "#INIT_SD".to_owned()
-        };
+        // The FC's parameter is named in both modes (parameters have no absolute address).
+        let init_sd = "#INIT_SD".to_owned();
         for i in 0..self.group.instances.len() {
             self.inst = i as u32;
             let t = self.pv(Predef::InitSd, Access::Write)?;
@@ -1200,6 +1249,7 @@ impl<'a> Gen<'a> {
     fn turn(&mut self) -> Result<(), Error> {
         let inst = &self.group.instances[self.inst as usize];
         let graph = self.graph(inst)?;
+        self.rlo_one = false;
         let _ = writeln!(self.out, "NETWORK");
         let title = match self.names.instance_comments.get(self.inst as usize) {
             Some(Some(c)) => format!("{} : {} \"{}\"", inst.name, graph.name, one_line(c)),
@@ -1242,9 +1292,9 @@ impl<'a> Gen<'a> {
         // Step 2: the initial entry.
         let d = graph.initial.unwrap_or(0);
         self.comment(&format!("fresh DB: initial entry into state {d}"));
+        self.save();
         self.enter_front(ChangeKind::Initial)?;
-        self.enter_state(graph, d)?;
-        self.g("SPA", &step8);
+        self.jump_to_entry(graph, Target::State(d), &step8);
         self.put_label(&not_fresh);
         // Step 3: any-transitions.
         let blk = self.temp("HG_Blk");
@@ -1341,9 +1391,9 @@ impl<'a> Gen<'a> {
             } else {
                 ChangeKind::Normal
             };
+            self.save();
             self.enter_front(kind)?;
-            self.enter_target(graph, t.to, &step8)?;
-            self.g("SPA", &step8);
+            self.jump_to_entry(graph, t.to, &step8);
         }
         for (fire, t, from) in state_firings {
             self.put_label(&fire);
@@ -1357,10 +1407,11 @@ impl<'a> Gen<'a> {
             if let Some(st) = graph.states.iter().find(|s| s.number == from) {
                 self.leave(st)?;
             }
+            self.save();
             self.enter_front(ChangeKind::Normal)?;
-            self.enter_target(graph, t.to, &step8)?;
-            self.g("SPA", &step8);
+            self.jump_to_entry(graph, t.to, &step8);
         }
+        self.entries(graph, &step8)?;
         // Step 8: C of the current state.
         self.put_label(&step8);
         let cyclic: Vec<&State> = graph
@@ -1376,6 +1427,46 @@ impl<'a> Gen<'a> {
         // Step 9.
         self.blocks(&graph.permanent_post, false, "permanent C")?;
         Ok(())
+    }
+
+    /// Inside a save: jumps by the state number in the WORD `var` to the label of its entry
+    /// in `targets`, or to `default`. A jump list (`SPL`) when every number is at most 255,
+    /// else a chain of comparisons.
+    fn jump_by_state(&mut self, var: &str, targets: &[(u16, String)], default: &str) {
+        let max = targets.iter().map(|t| t.0).max().unwrap_or(0);
+        if targets.is_empty() {
+            self.g("SPA", default);
+        } else if max <= 255 {
+            let list_end = self.label();
+            // As a DINT: the WORD zero-extended, so 32768.. is not negative.
+            self.g("L", var);
+            self.g("L", "L#255");
+            self.g(">D", "");
+            self.g("SPB", default);
+            self.g("L", var);
+            self.g("SPL", &list_end);
+            for n in 0..=max {
+                match targets.iter().find(|t| t.0 == n) {
+                    Some((_, l)) => {
+                        let l = l.clone();
+                        self.g("SPA", &l);
+                    }
+                    None => self.g("SPA", default),
+                }
+            }
+            let op = glue("SPA", self.opt.mnemonic);
+            self.rlo_one = false;
+            let _ = writeln!(self.out, "{list_end}: {op:<5} {default};");
+        } else {
+            for (n, l) in targets {
+                self.g("L", var);
+                self.g("L", &format!("L#{n}"));
+                self.g("==D", "");
+                let l = l.clone();
+                self.g("SPB", &l);
+            }
+            self.g("SPA", default);
+        }
     }
 
     /// Jumps by the state number in `var` to the code `body` writes for each of `states`,
@@ -1398,33 +1489,12 @@ impl<'a> Gen<'a> {
         let labels: Vec<String> = states.iter().map(|_| self.label()).collect();
         let dflt = self.label();
         self.save();
-        let max = states.iter().map(|s| s.number).max().unwrap_or(0);
-        if max <= 255 {
-            // As a DINT: the WORD zero-extended, so 32768.. is not negative.
-            self.g("L", var);
-            self.g("L", "L#255");
-            self.g(">D", "");
-            self.g("SPB", &dflt);
-            self.g("L", var);
-            self.g("SPL", &dflt);
-            for n in 0..=max {
-                match states.iter().position(|s| s.number == n) {
-                    Some(k) => {
-                        let l = labels[k].clone();
-                        self.g("SPA", &l);
-                    }
-                    None => self.g("SPA", &dflt),
-                }
-            }
-        } else {
-            for (k, st) in states.iter().enumerate() {
-                self.g("L", var);
-                self.g("L", &format!("L#{}", st.number));
-                self.g("==D", "");
-                let l = labels[k].clone();
-                self.g("SPB", &l);
-            }
-        }
+        let targets: Vec<(u16, String)> = states
+            .iter()
+            .zip(&labels)
+            .map(|(st, l)| (st.number, l.clone()))
+            .collect();
+        self.jump_by_state(var, &targets, &dflt);
         self.put_label(&dflt);
         self.restore();
         self.g("SPA", cont);
@@ -1499,22 +1569,26 @@ impl<'a> Gen<'a> {
             self.g("SPB", no);
         }
         if t.to == Target::Return {
-            // PreviousState must be a state of the graph.
+            // PreviousState must be a state of the graph: a jump list over its states.
             let prev = self.pv(Predef::PreviousState, Access::Read)?;
             let ht = self.temp("HG_T");
             let ok = self.temp("HG_Ok");
+            let (yes, done) = (self.label(), self.label());
             self.save();
             self.g("L", &prev);
             self.g("T", &ht);
             self.g("SET", "");
             self.g("R", &ok);
-            for st in &graph.states {
-                self.g("L", &ht);
-                self.g("L", &format!("L#{}", st.number));
-                self.g("==D", "");
-                self.g("O", &ok);
-                self.g("=", &ok);
-            }
+            let targets: Vec<(u16, String)> = graph
+                .states
+                .iter()
+                .map(|st| (st.number, yes.clone()))
+                .collect();
+            self.jump_by_state(&ht, &targets, &done);
+            self.put_label(&yes);
+            self.g("SET", "");
+            self.g("S", &ok);
+            self.put_label(&done);
             self.restore();
             self.g("SET", "");
             self.g("U", &ok);
@@ -1548,50 +1622,77 @@ impl<'a> Gen<'a> {
             ChangeKind::Initial => {
                 self.g("SET", "");
                 self.g("R", &sep);
-                self.save();
                 self.g("L", "0");
                 self.g("T", &prev);
-                self.restore();
             }
             ChangeKind::Startup => {
-                self.save();
                 self.g("L", &hs);
                 self.g("T", &prev);
-                self.restore();
             }
             ChangeKind::Normal => {
                 let se = self.pv(Predef::StExpired, Access::Read)?;
                 self.g("SET", "");
                 self.g("U", &se);
                 self.g("=", &sep);
-                self.save();
                 self.g("L", &hs);
                 self.g("T", &prev);
-                self.restore();
             }
         }
         Ok(())
     }
 
-    /// Entry into a transition's target (static, or by `#HG_T` for a return).
-    fn enter_target(&mut self, graph: &Graph, to: Target, step8: &str) -> Result<(), Error> {
+    /// Inside a save: jumps to the entry into a transition's target (by `#HG_T` for a
+    /// return), noting which entries the turn needs.
+    fn jump_to_entry(&mut self, graph: &Graph, to: Target, step8: &str) {
         match to {
-            Target::State(d) => self.enter_state(graph, d),
+            Target::State(d) => {
+                let l = self.entry_label(d);
+                self.g("SPA", &l);
+            }
             Target::Return => {
                 let ht = self.temp("HG_T");
-                let states: Vec<&State> = graph.states.iter().collect();
-                self.dispatch(&ht, &states, step8, |w, st| w.enter_state(graph, st.number))
+                let targets: Vec<(u16, String)> = graph
+                    .states
+                    .iter()
+                    .map(|st| (st.number, self.entry_label(st.number)))
+                    .collect();
+                let bad = self.label();
+                self.jump_by_state(&ht, &targets, &bad);
+                self.put_label(&bad);
+                self.restore();
+                self.g("SPA", step8);
             }
         }
     }
 
-    /// §2.5 step 4 for target `d` (CurrentState, StateChange, UsrMsgSend, times), then steps
-    /// 6–7 (`E`, `C-` with `precyclic_on_entry`); `#HG_C` := d.
+    /// The label of the shared entry into state `d` of the running turn.
+    fn entry_label(&mut self, d: u16) -> String {
+        if let Some(l) = self.entries.get(&d) {
+            return l.clone();
+        }
+        let l = self.label();
+        self.entries.insert(d, l.clone());
+        l
+    }
+
+    /// The shared entries of the turn: each starts inside a save, does §2.5 step 4 for its
+    /// state `d` (CurrentState, StateChange, UsrMsgSend, the times; `#HG_C` := d), restores,
+    /// runs steps 6–7 (`E`, `C-` with `precyclic_on_entry`) and continues at step 8.
+    fn entries(&mut self, graph: &Graph, step8: &str) -> Result<(), Error> {
+        let entries = std::mem::take(&mut self.entries);
+        for (d, label) in entries {
+            self.put_label(&label);
+            self.comment(&format!("entry into state {d}"));
+            self.enter_state(graph, d)?;
+            self.g("SPA", step8);
+        }
+        Ok(())
+    }
+
     fn enter_state(&mut self, graph: &Graph, d: u16) -> Result<(), Error> {
         let st = graph.states.iter().find(|s| s.number == d);
         let cs = self.pv(Predef::CurrentState, Access::Write)?;
         let hc = self.temp("HG_C");
-        self.save();
         self.g("L", &word_literal(d));
         self.g("T", &cs);
         self.g("T", &hc);
@@ -1894,8 +1995,11 @@ impl<'a> Gen<'a> {
         );
         let (scan, init_sd) = if self.opt.absolute {
             (
-                "LB 1".to_owned(),
-                mem_text(MemArea::Local, 20, Width::Bit(0), self.opt.mnemonic),
+                note("LB 1".to_owned(), "OB1_SCAN_1"),
+                note(
+                    mem_text(MemArea::Local, 20, Width::Bit(0), self.opt.mnemonic),
+                    "HG_InitSd",
+                ),
             )
         } else {
             ("#OB1_SCAN_1".to_owned(), "#HG_InitSd".to_owned())
@@ -1903,12 +2007,7 @@ impl<'a> Gen<'a> {
         let init = self.glue_member("HG_Init");
         let m = self.opt.mnemonic;
         let mut line = |op: &'static str, operand: &str| {
-            let op = glue(op, m);
-            if operand.is_empty() {
-                let _ = writeln!(s, "      {op};");
-            } else {
-                let _ = writeln!(s, "      {op:<5} {operand};");
-            }
+            s.push_str(&statement(glue(op, m), operand));
         };
         line("L", &scan);
         line("L", "1");
@@ -1918,7 +2017,11 @@ impl<'a> Gen<'a> {
         let fc = self.names.fc.clone();
         let target = self.block_ref(&fc);
         let _ = writeln!(s, "      CALL  {target} (");
-        let _ = writeln!(s, "           INIT_SD                  := {init_sd});");
+        let _ = writeln!(
+            s,
+            "           INIT_SD                  := {});",
+            bare(&init_sd)
+        );
         let _ = writeln!(s, "END_ORGANIZATION_BLOCK");
         s
     }
@@ -1929,6 +2032,40 @@ enum ChangeKind {
     Initial,
     Startup,
     Normal,
+}
+
+/// Separates an absolute operand from the name it stands for (written as a comment).
+const NOTE: char = '\u{1}';
+
+/// `text` with `name` to be written as the statement's comment.
+fn note(text: String, name: &str) -> String {
+    format!("{text}{NOTE}{name}")
+}
+
+/// An operand without its note.
+fn bare(operand: &str) -> &str {
+    operand.split(NOTE).next().unwrap_or(operand)
+}
+
+/// One statement line: the operation padded to a column, the operand, `;`, and the names of
+/// absolute operands as a comment.
+fn statement(op: &str, operand: &str) -> String {
+    let mut parts = operand.split(NOTE);
+    let text = parts.next().unwrap_or("");
+    let notes: Vec<&str> = parts.collect();
+    let mut line = if text.is_empty() {
+        format!("      {op};")
+    } else {
+        format!("      {op:<5} {text};")
+    };
+    if !notes.is_empty() {
+        let pad = 30usize.saturating_sub(line.len()).max(1);
+        line.push_str(&" ".repeat(pad));
+        line.push_str("//");
+        line.push_str(&notes.join(", "));
+    }
+    line.push('\n');
+    line
 }
 
 /// A state number as a 16-bit constant (`L 40000` would be a DINT).

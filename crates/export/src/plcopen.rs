@@ -861,6 +861,134 @@ fn pou_xml(w: &mut Writer, pou: &Pou, next_id: u64) -> u64 {
 mod tests {
     use super::*;
 
+    fn step(name: &str, initial: bool) -> Element {
+        Element::Step(Step {
+            name: name.to_owned(),
+            initial,
+            actions: vec![ActionAssoc {
+                qualifier: Qualifier::L,
+                duration: Some("T#5S".to_owned()),
+                body: ActionBody::Reference("Q".to_owned()),
+            }],
+            documentation: None,
+        })
+    }
+
+    fn trans(name: &str, condition: &str) -> Element {
+        Element::Transition(Transition {
+            name: name.to_owned(),
+            condition: condition.to_owned(),
+            documentation: None,
+        })
+    }
+
+    fn values(xml: &str, attr: &str) -> Vec<u64> {
+        let needle = format!(" {attr}=\"");
+        xml.match_indices(&needle)
+            .filter_map(|(i, _)| {
+                let rest = &xml[i + needle.len()..];
+                rest[..rest.find('"')?].parse().ok()
+            })
+            .collect()
+    }
+
+    /// Two POUs: a selection with a jump branch inside a simultaneous branching.
+    fn project() -> Project {
+        let body = vec![
+            step("S0", true),
+            trans("T0", "a AND b"),
+            Element::Simultaneous(vec![
+                vec![
+                    step("P1", false),
+                    Element::Selection(vec![
+                        vec![trans("T1", "x < 1")],
+                        vec![trans("J", "y"), Element::Jump("S0".to_owned())],
+                    ]),
+                    step("P2", false),
+                ],
+                vec![step("P3", false)],
+            ]),
+            trans("T2", "TRUE"),
+            step("S9", false),
+        ];
+        let pou = Pou {
+            name: "A".to_owned(),
+            body,
+            documentation: "x & y".to_owned(),
+            ..Pou::default()
+        };
+        Project {
+            pous: vec![
+                pou.clone(),
+                Pou {
+                    name: "B".to_owned(),
+                    ..pou
+                },
+            ],
+            globals: vec![Variable {
+                name: "G".to_owned(),
+                ty: IecType::Bool,
+                address: Some("%IX0.0".to_owned()),
+                initial: None,
+                documentation: None,
+            }],
+        }
+    }
+
+    #[test]
+    fn ids_are_unique_in_the_document_and_every_reference_resolves() {
+        let xml = String::from_utf8(write(&project())).unwrap_or_default();
+        let ids = values(&xml, "localId");
+        let unique: std::collections::HashSet<_> = ids.iter().collect();
+        assert_eq!(unique.len(), ids.len());
+        for r in values(&xml, "refLocalId") {
+            assert!(unique.contains(&r), "{r}");
+        }
+        // A selection with one open branch continues without a convergence.
+        assert_eq!(xml.matches("<selectionConvergence").count(), 0);
+        assert_eq!(xml.matches("<simultaneousConvergence").count(), 2);
+        assert_eq!(values(&xml, "priority"), vec![1, 2, 1, 2]);
+        assert!(xml.contains("qualifier=\"L\" duration=\"T#5S\""));
+        assert!(xml.contains("a AND b"));
+        assert!(xml.contains("x &lt; 1"));
+        assert!(xml.contains("<xhtml:p>x &amp; y</xhtml:p>"));
+        assert!(xml.contains("<variable name=\"G\" address=\"%IX0.0\">"));
+        assert_eq!(write(&project()), write(&project()));
+    }
+
+    #[test]
+    fn branches_stand_side_by_side_and_below_their_divergence() {
+        let xml = String::from_utf8(write(&project())).unwrap_or_default();
+        let position = |name: &str| -> (i64, i64) {
+            let at = xml.find(&format!("name=\"{name}\"")).unwrap_or(0);
+            let rest = &xml[at..];
+            let p = rest.find("<position x=\"").unwrap_or(0) + 13;
+            let nums: Vec<i64> = rest[p..]
+                .split('"')
+                .filter_map(|t| t.parse().ok())
+                .take(2)
+                .collect();
+            (nums[0], nums[1])
+        };
+        let (p1, p3, p2, s9) = (
+            position("P1"),
+            position("P3"),
+            position("P2"),
+            position("S9"),
+        );
+        assert_eq!(p1.1, p3.1, "parallel branches start on one row");
+        assert!(p1.0 < p3.0, "left to right");
+        assert!(p2.1 > p1.1 && s9.1 > p2.1, "top-down");
+    }
+
+    #[test]
+    fn empty_project() {
+        let xml = String::from_utf8(write(&Project::default())).unwrap_or_default();
+        assert!(xml.contains("<pous/>"));
+        assert!(xml.contains("<configurations/>"));
+        assert!(xml.contains(&format!("creationDateTime=\"{CREATION_DATE_TIME}\"")));
+    }
+
     #[test]
     fn escapes_markup_and_drops_control_characters() {
         assert_eq!(

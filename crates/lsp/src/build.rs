@@ -269,6 +269,20 @@ pub(crate) fn items_text(groups: usize, charts: usize) -> String {
     }
 }
 
+/// What a build covered, for "errors in ... to build": `the group`, `the 2 groups and the
+/// chart`.
+pub(crate) fn items_to_build(groups: usize, charts: usize) -> String {
+    let one = |n: usize, word: &str| match n {
+        1 => format!("the {word}"),
+        n => format!("the {n} {word}s"),
+    };
+    match (groups, charts) {
+        (g, 0) => one(g, "group"),
+        (0, c) => one(c, "chart"),
+        (g, c) => format!("{} and {}", one(g, "group"), one(c, "chart")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -278,6 +292,8 @@ mod tests {
         assert_eq!(items_text(1, 0), "1 group");
         assert_eq!(items_text(0, 3), "3 charts");
         assert_eq!(items_text(2, 1), "2 groups and 1 chart");
+        assert_eq!(items_to_build(1, 0), "the group");
+        assert_eq!(items_to_build(2, 1), "the 2 groups and the chart");
     }
 
     #[test]

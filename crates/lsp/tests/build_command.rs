@@ -55,6 +55,15 @@ fn build(tree: &TempTree, args: &[&str]) -> support::Run {
     run_in(tree.path(), &all)
 }
 
+/// The `wrote ...` lines of standard output (diagnostics the build prints come before them).
+fn wrote(stdout: &str) -> String {
+    stdout
+        .lines()
+        .filter(|line| line.starts_with("wrote "))
+        .map(|line| format!("{line}\n"))
+        .collect()
+}
+
 /// The names in a folder, sorted (hidden ones included).
 fn listing(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = fs::read_dir(dir)
@@ -104,14 +113,20 @@ fn targets_choose_groups_charts_or_both() {
     let tree = workspace();
     let run = build(&tree, &["--target", "plcopen"]);
     assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
-    assert_eq!(run.stdout, "wrote build/charts.xml\n", "{}", run.stderr);
+    assert_eq!(
+        wrote(&run.stdout),
+        "wrote build/charts.xml\n",
+        "{}",
+        run.stderr
+    );
     assert!(run.stderr.contains("built 1 chart"), "{}", run.stderr);
 
     let tree = workspace();
     let run = build(&tree, &["--target", "all", "-o", "out"]);
     assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
     assert_eq!(
-        run.stdout, "wrote out/Pult.awl\nwrote out/charts.xml\nwrote out/symbols.sdf\n",
+        wrote(&run.stdout),
+        "wrote out/Pult.awl\nwrote out/charts.xml\nwrote out/symbols.sdf\n",
         "{}",
         run.stderr
     );
@@ -199,7 +214,7 @@ fn errors_stop_the_build_before_anything_is_written() {
     assert!(run.stdout.contains("--> plant.higraph:"), "{}", run.stdout);
     assert!(
         run.stderr
-            .contains("error: nothing built: errors in the 1 group to build"),
+            .contains("error: nothing built: errors in the group to build or in what it uses"),
         "{}",
         run.stderr
     );
@@ -214,6 +229,25 @@ fn errors_stop_the_build_before_anything_is_written() {
     let run = build(&tree, &[]);
     assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
     assert!(!tree.path().join("build").exists(), "nothing is written");
+
+    // So does an error in a symbol table, also when only the group's file is named.
+    let tree = workspace();
+    tree.file("symbole.higraph", "symbols < Eins : A 1.0; Zwei : A 1.0; >\n");
+    let run = build(&tree, &["plant.higraph"]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    assert!(run.stdout.contains("--> symbole.higraph:"), "{}", run.stdout);
+    assert!(!tree.path().join("build").exists(), "nothing is written");
+
+    // An error in a test does not stop a build.
+    let tree = workspace();
+    tree.file("tests.higraph", "test Kaputt <\n  expect Nirgends;\n>\n");
+    assert_eq!(
+        run_in(tree.path(), &["check"]).status,
+        1,
+        "the test has an error"
+    );
+    let run = build(&tree, &[]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
 
     // An error in a chart does not stop a build of the groups only.
     let tree = workspace();
@@ -302,7 +336,7 @@ fn paths_choose_the_files_and_the_root_is_found_from_below() {
     let root = fs::canonicalize(tree.path()).expect("canonical");
     let root = root.to_string_lossy();
     assert_eq!(
-        run.stdout,
+        wrote(&run.stdout),
         format!(
             "wrote {root}/build/Pult.awl\nwrote {root}/build/charts.xml\n\
              wrote {root}/build/symbols.sdf\n"

@@ -287,6 +287,11 @@ impl Machine {
         v
     }
 
+    /// The bytes of an area as allocated so far (bytes past the end read as 0).
+    pub fn area_bytes(&self, area: MemArea) -> &[u8] {
+        self.area(area)
+    }
+
     /// Reads `len` (1..=4) bytes big-endian.
     #[inline]
     pub fn read_bytes(&self, area: MemArea, byte: u32, len: u32) -> Result<u32, Fault> {

@@ -18,7 +18,7 @@ use std::fmt::Write as _;
 
 use crate::eval;
 use crate::machine::Fault;
-use crate::program::{CmpOp, Expr, Origin, PathKind, Program, TestStmt, TestStmtKind};
+use crate::program::{CmpOp, Expr, Origin, PathKind, Place, Program, TestStmt, TestStmtKind};
 use crate::sim::Sim;
 use crate::trace::{Before, CycleRecord, Initial, OrderedMap, Trace, json_value};
 use crate::value::Value;
@@ -79,10 +79,39 @@ pub struct RunOptions<'a> {
     pub cancelled: &'a dyn Fn() -> bool,
 }
 
+/// What a run reports to an [`Observer`] besides its result: the memory the test statements
+/// write and the state around each cycle. Used by the proof of the generated code
+/// (`scripts/build-diff`), which replays a test in another PLC and compares.
+pub trait Observer {
+    /// A `set` statement wrote `value` to `place`.
+    fn set(&mut self, _place: &Place, _value: &Value) {}
+    /// A `set` of a stub value (`Block.param`), which no other PLC can replay.
+    fn stub(&mut self) {}
+    /// `restart cold|warm`.
+    fn restart(&mut self, _cold: bool) {}
+    /// A cycle is about to start (its INIT_SD is `sim.next_is_first()`).
+    fn before_cycle(&mut self, _sim: &mut Sim<'_>) {}
+    /// A cycle ended without a fault.
+    fn after_cycle(&mut self, _sim: &mut Sim<'_>) {}
+}
+
+struct NoObserver;
+impl Observer for NoObserver {}
+
 /// Runs the program's test on a fresh machine. `None` when cancelled. A runtime fault is an
 /// HG9903 failure in the result. A program without a test passes at once.
 pub fn run(program: &Program, options: &RunOptions<'_>) -> Option<TestRun> {
+    run_observed(program, options, &mut NoObserver)
+}
+
+/// [`run`], reporting to `observer`.
+pub fn run_observed(
+    program: &Program,
+    options: &RunOptions<'_>,
+    observer: &mut dyn Observer,
+) -> Option<TestRun> {
     let mut runner = Runner {
+        observer,
         sim: Sim::new(program),
         failures: Vec::new(),
         trace: options.trace.then(|| new_trace(program)),
@@ -139,6 +168,7 @@ enum Flow {
 }
 
 struct Runner<'p, 'o> {
+    observer: &'o mut dyn Observer,
     sim: Sim<'p>,
     failures: Vec<Failure>,
     trace: Option<Trace>,
@@ -158,8 +188,14 @@ impl Runner<'_, '_> {
                 let v = eval::eval(value, m, program, &env)?;
                 let v = eval::convert(v, target.ty);
                 match &target.kind {
-                    PathKind::Place(place) => m.write_value(place, &v)?,
-                    PathKind::Stub { block, param } => m.set_stub(*block, param, v.clone()),
+                    PathKind::Place(place) => {
+                        m.write_value(place, &v)?;
+                        self.observer.set(place, &v);
+                    }
+                    PathKind::Stub { block, param } => {
+                        m.set_stub(*block, param, v.clone());
+                        self.observer.stub();
+                    }
                     // The lowering rejects every other target (HG9104).
                     _ => return Err(Fault::new(format!("'{}' cannot be set", target.text))),
                 }
@@ -257,6 +293,7 @@ impl Runner<'_, '_> {
             }
             TestStmtKind::Restart { cold } => {
                 self.sim.restart(*cold);
+                self.observer.restart(*cold);
                 if self.trace.is_some() {
                     self.before.push(Before::Restart {
                         restart: if *cold { "cold" } else { "warm" }.to_string(),
@@ -275,8 +312,10 @@ impl Runner<'_, '_> {
         if self.sim.cycle >= crate::sim::MAX_CYCLES {
             self.limit_hit = true;
         }
+        self.observer.before_cycle(&mut self.sim);
         if self.trace.is_none() {
             self.sim.step(None)?;
+            self.observer.after_cycle(&mut self.sim);
             return Ok(None);
         }
         let mut record = CycleRecord {
@@ -296,6 +335,9 @@ impl Runner<'_, '_> {
             if let Some(trace) = &mut self.trace {
                 trace.cycles.push(record);
             }
+        }
+        if result.is_ok() {
+            self.observer.after_cycle(&mut self.sim);
         }
         result.map(|()| None)
     }

@@ -140,6 +140,12 @@ pub(super) fn group_source(
         literals: std::mem::take(&mut lw.names.literals),
         time_symbols: std::mem::take(&mut lw.names.time_symbols),
         blocks,
+        call_dbs: lw
+            .names
+            .call_dbs
+            .iter()
+            .filter_map(|(o, text)| Some((*o, block_name(index, text, mnemonic)?)))
+            .collect(),
         symbols,
         var_comments: HashMap::new(),
     };
@@ -251,11 +257,13 @@ mod tests {
             },
         ];
         let bytes = write(&symbols).expect("Windows-1252");
-        let mut data = WorkspaceData::default();
-        data.config = Some((
-            "higraph.toml".into(),
-            FileContents::from_bytes(b"[workspace]\nsymbols = [\"symbols.sdf\"]\n".to_vec()),
-        ));
+        let mut data = WorkspaceData {
+            config: Some((
+                "higraph.toml".into(),
+                FileContents::from_bytes(b"[workspace]\nsymbols = [\"symbols.sdf\"]\n".to_vec()),
+            )),
+            ..WorkspaceData::default()
+        };
         data.imports.insert("symbols.sdf".into(), Ok(bytes));
         let mut host = AnalysisHost::new();
         host.load(data);

@@ -18,7 +18,7 @@ use crate::{Analysis, Cancellable, Diagnostic, Severity, TextRange, TextSize, ch
 
 mod awl;
 mod plcopen;
-mod rules;
+pub(crate) mod rules;
 
 /// What `build` generates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -181,9 +181,12 @@ fn build_item(
         ..*options
     };
     let item = [(found.file, found.item)];
-    let (groups, charts): (&[(File, u32)], &[(File, u32)]) =
-        if chart { (&[], &item) } else { (&item, &[]) };
-    run(db, ws, groups, charts, &[found.file], &options)
+    let none: &[(File, u32)] = &[];
+    if chart {
+        run(db, ws, none, &item, &[found.file], &options)
+    } else {
+        run(db, ws, &item, none, &[found.file], &options)
+    }
 }
 
 fn build_items(db: &dyn salsa::Database, _ws: Workspace, file: File) -> Vec<BuildItem> {
@@ -364,21 +367,24 @@ struct Region {
     whole: bool,
     /// Diagnostics outside every item of the file (a file the build covers).
     outside_items: bool,
-    /// The items' ranges (absolute).
+    /// The items' ranges (absolute, in text order).
     items: Vec<TextRange>,
-    /// All items' ranges, sorted, when `outside_items`.
+    /// All items' ranges in text order, when `outside_items`.
     all_items: Vec<TextRange>,
 }
 
 impl Region {
+    /// Item ranges are in text order and do not overlap, so the item that may hold a range is
+    /// found by binary search (a file of many items and many diagnostics stays fast).
     fn covers(&self, range: TextRange) -> bool {
+        let holder = |items: &[TextRange]| {
+            let after = items.partition_point(|item| item.start() <= range.start());
+            after.checked_sub(1).and_then(|i| items.get(i)).copied()
+        };
         self.whole
-            || self.items.iter().any(|item| item.contains_range(range))
+            || holder(&self.items).is_some_and(|item| item.contains_range(range))
             || (self.outside_items
-                && !self
-                    .all_items
-                    .iter()
-                    .any(|item| item.contains(range.start())))
+                && !holder(&self.all_items).is_some_and(|item| item.contains(range.start())))
     }
 }
 
@@ -458,6 +464,29 @@ fn regions(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn regions_cover_their_items_and_what_lies_outside_every_item() {
+        let r = |a: u32, b: u32| TextRange::new(TextSize::from(a), TextSize::from(b));
+        let region = Region {
+            items: vec![r(10, 20), r(40, 50)],
+            outside_items: true,
+            all_items: vec![r(10, 20), r(25, 35), r(40, 50)],
+            ..Region::default()
+        };
+        assert!(region.covers(r(12, 14)));
+        assert!(region.covers(r(40, 50)));
+        assert!(!region.covers(r(18, 22)), "runs out of its item");
+        assert!(!region.covers(r(26, 30)), "in an item that is not built");
+        assert!(region.covers(r(21, 23)), "between items");
+        assert!(region.covers(r(0, 1)), "before every item");
+        assert!(region.covers(r(60, 61)), "after every item");
+        let whole = Region {
+            whole: true,
+            ..Region::default()
+        };
+        assert!(whole.covers(r(26, 30)));
+    }
 
     #[test]
     fn paths_select_files_and_folders() {

@@ -244,12 +244,19 @@ impl Reader<'_, '_> {
             Target::Var(i) => self.scope.vars.get(i)?.name.clone(),
             Target::Symbol { name, ty, address } => {
                 let addr = address.as_ref().and_then(direct_address);
+                let comment = self
+                    .ctx
+                    .index
+                    .symbol(&name)
+                    .and_then(|s| s.comment.clone())
+                    .filter(|c| !c.is_empty());
                 let doc = match (&address, &addr) {
                     (Some(a), None) => Some(format!(
-                        "STEP 7 address {} has no IEC direct address",
+                        "{}STEP 7 address {} has no IEC direct address",
+                        comment.map(|c| format!("{c}; ")).unwrap_or_default(),
                         a.display(crate::lang::Mnemonic::Simatic)
                     )),
-                    _ => None,
+                    _ => comment,
                 };
                 let var = self
                     .globals
@@ -534,7 +541,7 @@ impl Reader<'_, '_> {
         let mut documentation = comment(step.syntax()).unwrap_or_default();
         if !notes.is_empty() {
             if !documentation.is_empty() {
-                documentation.push_str("\n");
+                documentation.push('\n');
             }
             documentation.push_str(&format!("not in IEC: {}", notes.join(", ")));
         }
@@ -785,9 +792,6 @@ fn chart_pou(
         };
         let value = value.text();
         let keyword = keyword.text().to_ascii_lowercase();
-        if keyword == "switching" && value.eq_ignore_ascii_case("T") {
-            continue;
-        }
         props.push(format!("{keyword} {value}"));
     }
     let mut seen = HashSet::new();
@@ -1109,6 +1113,38 @@ mod tests {
     fn deterministic() {
         let files = folder(&root().join("examples/mixer"));
         assert_eq!(xml(&load_fixture(&files)).0, xml(&load_fixture(&files)).0);
+    }
+
+    /// Every chart of the rule fixtures, those with errors included (a build would refuse
+    /// them, but the export must not panic on any input): the ids still hold.
+    #[test]
+    fn any_chart_fixture_exports_without_panic() {
+        let mut stack = vec![root().join("crates/analysis/test_data")];
+        let mut n = 0;
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    stack.push(p);
+                    continue;
+                }
+                let text = std::fs::read(&p).unwrap_or_default();
+                if !p.extension().is_some_and(|x| x == "higraph")
+                    || !String::from_utf8_lossy(&text).contains("chart")
+                {
+                    continue;
+                }
+                let (xml, _) = xml(&load_fixture(&[("main.higraph".to_owned(), text)]));
+                let ids = attrs(&xml, "localId");
+                let unique: std::collections::HashSet<_> = ids.iter().collect();
+                assert_eq!(unique.len(), ids.len(), "{}", p.display());
+                for r in attrs(&xml, "refLocalId") {
+                    assert!(unique.contains(&r), "{}", p.display());
+                }
+                n += 1;
+            }
+        }
+        assert!(n > 100, "{n} chart fixtures");
     }
 
     /// For `scripts/plcopen-check`: writes the documents of the examples, the fixtures and the

@@ -9,6 +9,7 @@
 //! | HG8103 | plcopen | a chart variable, symbol, address or constant of an S7-only type |
 //! | HG8104 | plcopen | (info) PCS 7 chart logic PLCopen cannot express: kept in the documentation |
 //! | HG8105 | awl     | a group's FC is declared as an external block by a `block` item |
+//! | HG8106 | plcopen | a name declared in a chart is a keyword of IEC 61131-3 |
 //!
 //! Everything per item is a salsa query (`group_encoding`, `item_block_numbers`, `chart_rules`),
 //! so that the language server can ask for these diagnostics after every edit and pay only for
@@ -64,6 +65,38 @@ impl Analysis {
 
 /// Items as `(file, index in the file)`.
 type Items = Vec<(File, u32)>;
+
+/// The fix of HG8101 for the group of `file` whose name token is at `name_range` (absolute),
+/// converted like a diagnostic's fix; `None` if that group has both clauses, HG8101 is switched
+/// off, or no free number is left. The language server shows no HG81xx (they depend on the
+/// build target, and `check` accepts what they report); it offers this fix as a quick fix of
+/// `check`'s HG8002/HG8003 on the same name ([`crate::ide::code_actions`]).
+pub(crate) fn missing_clause_fix(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    name_range: TextRange,
+) -> Option<crate::Fix> {
+    let offsets = db::item_offsets(db, file);
+    let item = db::file_summary(db, file)
+        .items
+        .iter()
+        .enumerate()
+        .find(|(i, summary)| {
+            summary.kind == ItemKind::Group
+                && summary
+                    .name_range
+                    .zip(offsets.get(*i))
+                    .is_some_and(|(range, &offset)| range + offset == name_range)
+        })
+        .map(|(i, _)| i as u32)?;
+    let free = free_numbers(db, ws).get(&(file, item));
+    let diag = missing_clauses(db, ItemLoc::new(db, file, item), free)?;
+    check::convert_extra(db, ws, &[diag])
+        .into_iter()
+        .next()
+        .and_then(|(_, d)| d.fixes.into_iter().next())
+}
 
 /// Every group and every chart of the workspace, in workspace order.
 pub(crate) fn workspace_items(db: &dyn salsa::Database, ws: Workspace) -> (Items, Items) {
@@ -210,6 +243,20 @@ fn free_numbers(
     ws: Workspace,
 ) -> HashMap<(File, u32), (Option<u32>, Option<u32>)> {
     let (groups, _) = workspace_items(db, ws);
+    // The groups that lack a clause; most workspaces have none, and then nothing is scanned.
+    let wanting: Vec<(File, u32, bool, bool)> = groups
+        .into_iter()
+        .filter_map(|(file, item)| {
+            let group =
+                db::item_root(db, ItemLoc::new(db, file, item)).and_then(ast::Group::cast)?;
+            let need_fc = clause_node(&group, SyntaxKind::FC_CLAUSE).is_none();
+            let need_db = clause_node(&group, SyntaxKind::DB_CLAUSE).is_none();
+            (need_fc || need_db).then_some((file, item, need_fc, need_db))
+        })
+        .collect();
+    if wanting.is_empty() {
+        return HashMap::new();
+    }
     let mut used_fc: HashSet<u32> = HashSet::new();
     let mut used_db: HashSet<u32> = HashSet::new();
     for block in generated_blocks(db, ws) {
@@ -238,17 +285,7 @@ fn free_numbers(
     let mut next_fc = 1u32;
     let mut next_db = 1u32;
     let mut free = HashMap::new();
-    for (file, item) in groups {
-        let Some(group) =
-            db::item_root(db, ItemLoc::new(db, file, item)).and_then(ast::Group::cast)
-        else {
-            continue;
-        };
-        let need_fc = clause_node(&group, SyntaxKind::FC_CLAUSE).is_none();
-        let need_db = clause_node(&group, SyntaxKind::DB_CLAUSE).is_none();
-        if !need_fc && !need_db {
-            continue;
-        }
+    for (file, item, need_fc, need_db) in wanting {
         let fc = need_fc.then(|| next_free(&mut next_fc, &used_fc)).flatten();
         let dbn = need_db.then(|| next_free(&mut next_db, &used_db)).flatten();
         free.insert((file, item), (fc, dbn));
@@ -476,6 +513,10 @@ fn encoding_diag(text: &str, at: Loc) -> Option<Diag> {
 /// character constant. Line comments (`//`) are not written into the source.
 #[salsa::tracked(returns(ref))]
 fn item_encoding<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Vec<Diag> {
+    // Most files are ASCII throughout: nothing to look at.
+    if item.file(db).contents(db).text().is_ascii() {
+        return Vec::new();
+    }
     let Some(root) = db::item_root(db, item) else {
         return Vec::new();
     };
@@ -500,31 +541,11 @@ fn symbol_encoding(db: &dyn salsa::Database, index: &GlobalIndex, name: &str) ->
             let Some(item) = at.item else {
                 return Vec::new();
             };
-            let Some(root) = db::item_root(db, ItemLoc::new(db, at.file, item)) else {
-                return Vec::new();
-            };
-            // The declaration: the symbol node around the name token, found from the name
-            // upwards (a walk of the whole table per symbol would be quadratic in a table of
-            // thousands of symbols).
-            if !root.text_range().contains_range(at.range) {
-                return Vec::new();
-            }
-            let start = match root.covering_element(at.range) {
-                higraph_syntax::rowan::NodeOrToken::Node(node) => Some(node),
-                higraph_syntax::rowan::NodeOrToken::Token(token) => token.parent(),
-            };
-            let Some(decl) = start
-                .into_iter()
-                .flat_map(|node| node.ancestors())
-                .find_map(ast::Symbol::cast)
-            else {
-                return Vec::new();
-            };
-            tokens_of(decl.syntax())
-                .filter(|t| t.kind() == SyntaxKind::STRING && !t.text().is_ascii())
-                .filter_map(|t| {
-                    encoding_diag(t.text(), Loc::in_item(at.file, item, t.text_range()))
-                })
+            let wanted = key(&symbol.name);
+            symbols_encoding(db, ItemLoc::new(db, at.file, item))
+                .iter()
+                .filter(|(name, _)| *name == wanted)
+                .map(|(_, diag)| diag.clone())
                 .collect()
         }
         SymbolSource::Imported(_) => {
@@ -545,6 +566,30 @@ fn symbol_encoding(db: &dyn salsa::Database, index: &GlobalIndex, name: &str) ->
     }
 }
 
+/// HG8102 in the declarations of one `symbols` item, with the (upper case) name of the symbol
+/// each belongs to; scanned once per item, not once per symbol.
+#[salsa::tracked(returns(ref))]
+fn symbols_encoding<'db>(db: &'db dyn salsa::Database, item: ItemLoc<'db>) -> Vec<(String, Diag)> {
+    let Some(root) = db::item_root(db, item).and_then(ast::Symbols::cast) else {
+        return Vec::new();
+    };
+    let (file, index) = (item.file(db), item.index(db));
+    let mut out = Vec::new();
+    for decl in root.symbols() {
+        let name = key(&decl.name().map(|n| n.text()).unwrap_or_default());
+        for token in tokens_of(decl.syntax())
+            .filter(|t| t.kind() == SyntaxKind::STRING && !t.text().is_ascii())
+        {
+            if let Some(diag) =
+                encoding_diag(token.text(), Loc::in_item(file, index, token.text_range()))
+            {
+                out.push((name.clone(), diag));
+            }
+        }
+    }
+    out
+}
+
 fn tokens_of(node: &SyntaxNode) -> impl Iterator<Item = SyntaxToken> + use<> {
     node.descendants_with_tokens()
         .filter_map(|e| e.into_token())
@@ -557,7 +602,7 @@ fn s7_only(ty: Type) -> bool {
     matches!(ty, Type::S5Time | Type::Timer | Type::Counter)
 }
 
-/// HG8103 and HG8104 in one chart.
+/// HG8103, HG8104 and HG8106 in one chart.
 #[salsa::tracked(returns(ref))]
 fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'db>) -> Vec<Diag> {
     let Some(chart) = db::item_root(db, item).and_then(ast::Chart::cast) else {
@@ -635,11 +680,51 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
     }
     for token in tokens_of(chart.syntax()).filter(|t| t.kind() == SyntaxKind::TYPED_CONST) {
         let upper = token.text().to_ascii_uppercase();
-        if upper.starts_with("S5T#") || upper.starts_with("S5TIME#") {
+        // The initial value of a variable reported at its type is the same mistake.
+        let in_reported_decl = token
+            .parent_ancestors()
+            .find_map(ast::VarDecl::cast)
+            .and_then(|d| d.ty())
+            .and_then(|t| crate::index::declared_type(&t))
+            .is_some_and(s7_only);
+        if !in_reported_decl && (upper.starts_with("S5T#") || upper.starts_with("S5TIME#")) {
             out.push(Diag::new(
                 "HG8103",
                 at(token.text_range()),
                 s7_message(token.text(), Type::S5Time),
+            ));
+        }
+    }
+
+    // HG8106: declared names that IEC 61131-3 reserves.
+    for node in chart
+        .syntax()
+        .descendants()
+        .filter(|n| n.kind() == SyntaxKind::NAME)
+    {
+        let declares = node.parent().is_some_and(|p| {
+            matches!(
+                p.kind(),
+                SyntaxKind::CHART
+                    | SyntaxKind::VAR_DECL
+                    | SyntaxKind::SEQUENCER
+                    | SyntaxKind::STEP
+                    | SyntaxKind::CHART_TRANS
+                    | SyntaxKind::JUMP
+                    | SyntaxKind::LOOP
+            )
+        });
+        let Some(token) = node.first_token().filter(|t| t.kind() == SyntaxKind::IDENT) else {
+            continue;
+        };
+        if declares && is_iec_keyword(token.text()) {
+            out.push(Diag::new(
+                "HG8106",
+                at(token.text_range()),
+                format!(
+                    "'{}' is a keyword of IEC 61131-3; PLCopen tools cannot read it as a name",
+                    token.text()
+                ),
             ));
         }
     }
@@ -651,12 +736,106 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
         )
     };
     for prop in chart.props() {
+        // `switching T` (transitions switch on their own) is what an IEC SFC does.
+        let is_switching = prop
+            .keyword()
+            .is_some_and(|k| k.kind() == SyntaxKind::SWITCHING_KW);
+        if is_switching
+            && prop
+                .value()
+                .is_some_and(|v| v.text().eq_ignore_ascii_case("T"))
+        {
+            continue;
+        }
         let range = item_range(prop.syntax());
         let text = collapsed(prop.syntax());
         out.push(Diag::new(
             "HG8104",
             at(range),
             documented(format!("'{text}'")),
+        ));
+    }
+    let sequencers: Vec<ast::Sequencer> = chart.sequencers().collect();
+    // One sequencer: its start step is the block's initial step, the caller decides when the
+    // block runs; several of different priorities: one may displace another (`runtime.md` §4.4).
+    if let [only] = sequencers.as_slice()
+        && let Some(start) = only.start()
+        && start.conditions().next().is_some()
+        && let Some(keyword) = start.syntax().first_token()
+    {
+        let name = only.name().map(|n| n.text()).unwrap_or_default();
+        out.push(Diag::new(
+            "HG8104",
+            at(keyword.text_range()),
+            documented(format!(
+                "the start condition of sequencer {name}, the chart's only sequencer,"
+            )),
+        ));
+    }
+    let prio = |s: &ast::Sequencer| {
+        s.prio()
+            .and_then(|p| p.value())
+            .and_then(|v| v.text().parse::<i64>().ok())
+            .unwrap_or(1)
+    };
+    if let Some(first) = sequencers.first()
+        && sequencers.iter().any(|s| prio(s) != prio(first))
+        && let Some(token) = chart.name().and_then(|n| n.token())
+    {
+        out.push(Diag::new(
+            "HG8104",
+            at(token.text_range()),
+            documented("displacing a running sequencer by one of higher priority".to_owned()),
+        ));
+    }
+    for sequencer in &sequencers {
+        let name = sequencer.name().map(|n| n.text()).unwrap_or_default();
+        let parts = [
+            sequencer
+                .pre()
+                .map(|p| (p.syntax().clone(), p.assignments().next().is_some())),
+            sequencer
+                .post()
+                .map(|p| (p.syntax().clone(), p.assignments().next().is_some())),
+        ];
+        for (part, written) in parts.into_iter().flatten() {
+            if let (true, Some(keyword)) = (written, part.first_token()) {
+                out.push(Diag::new(
+                    "HG8104",
+                    at(keyword.text_range()),
+                    documented(format!("'{}' of sequencer {name}", keyword.text())),
+                ));
+            }
+        }
+    }
+    // A jump or loop after a step without a successor transition (the end step, the last step
+    // of a parallel branch): an IEC selection divergence needs that transition first.
+    for node in chart
+        .syntax()
+        .descendants()
+        .filter(|n| matches!(n.kind(), SyntaxKind::JUMP | SyntaxKind::LOOP))
+    {
+        let successor = std::iter::successors(node.next_sibling(), |n| n.next_sibling())
+            .filter_map(ast::SeqElement::cast)
+            .find(|e| !matches!(e, ast::SeqElement::Jump(_) | ast::SeqElement::Loop(_)));
+        if successor.is_some() {
+            continue;
+        }
+        let header_end = node
+            .children()
+            .find(|c| c.kind() == SyntaxKind::NAME)
+            .map(|n| n.text_range().end());
+        let (Some(first), Some(end)) = (node.first_token(), header_end) else {
+            continue;
+        };
+        let header = TextRange::new(first.text_range().start(), end);
+        let text = collapsed_range(&node, header);
+        out.push(Diag::new(
+            "HG8104",
+            at(header),
+            documented(format!(
+                "'{text}' after a step without a successor transition"
+            )),
         ));
     }
     for step in chart.syntax().descendants().filter_map(ast::Step::cast) {
@@ -680,6 +859,125 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
     out
 }
 
+/// The keywords and elementary type names of IEC 61131-3 (3rd edition) that are not reserved
+/// in this language already (`diagnostics.md` Appendix A reserves the shared type names,
+/// `TRUE FALSE AND OR XOR NOT` and the STL operations).
+const IEC_KEYWORDS: &[&str] = &[
+    "ABSTRACT",
+    "ACTION",
+    "ARRAY",
+    "AT",
+    "BY",
+    "CASE",
+    "CLASS",
+    "CONFIGURATION",
+    "CONSTANT",
+    "CONTINUE",
+    "DO",
+    "ELSE",
+    "ELSIF",
+    "EN",
+    "END_ACTION",
+    "END_CASE",
+    "END_CLASS",
+    "END_CONFIGURATION",
+    "END_FOR",
+    "END_FUNCTION",
+    "END_FUNCTION_BLOCK",
+    "END_IF",
+    "END_INTERFACE",
+    "END_METHOD",
+    "END_NAMESPACE",
+    "END_PROGRAM",
+    "END_REPEAT",
+    "END_RESOURCE",
+    "END_STEP",
+    "END_STRUCT",
+    "END_TRANSITION",
+    "END_TYPE",
+    "END_VAR",
+    "END_WHILE",
+    "ENO",
+    "EXIT",
+    "EXTENDS",
+    "F_EDGE",
+    "FINAL",
+    "FOR",
+    "FROM",
+    "FUNCTION",
+    "FUNCTION_BLOCK",
+    "IF",
+    "IMPLEMENTS",
+    "INITIAL_STEP",
+    "INTERFACE",
+    "INTERNAL",
+    "INTERVAL",
+    "LDATE",
+    "LDT",
+    "LINT",
+    "LREAL",
+    "LTIME",
+    "LTOD",
+    "LWORD",
+    "METHOD",
+    "MOD",
+    "NAMESPACE",
+    "NON_RETAIN",
+    "NULL",
+    "OF",
+    "ON",
+    "OVERLAP",
+    "OVERRIDE",
+    "PRIORITY",
+    "PRIVATE",
+    "PROGRAM",
+    "PROTECTED",
+    "PUBLIC",
+    "R_EDGE",
+    "READ_ONLY",
+    "READ_WRITE",
+    "REF",
+    "REF_TO",
+    "REPEAT",
+    "RESOURCE",
+    "RETAIN",
+    "RETURN",
+    "SINGLE",
+    "SINT",
+    "STEP",
+    "STRUCT",
+    "SUPER",
+    "TASK",
+    "THEN",
+    "THIS",
+    "TO",
+    "TRANSITION",
+    "TYPE",
+    "UDINT",
+    "UINT",
+    "ULINT",
+    "UNTIL",
+    "USINT",
+    "USING",
+    "VAR",
+    "VAR_ACCESS",
+    "VAR_CONFIG",
+    "VAR_EXTERNAL",
+    "VAR_GLOBAL",
+    "VAR_IN_OUT",
+    "VAR_INPUT",
+    "VAR_OUTPUT",
+    "VAR_TEMP",
+    "WCHAR",
+    "WHILE",
+    "WITH",
+    "WSTRING",
+];
+
+fn is_iec_keyword(name: &str) -> bool {
+    IEC_KEYWORDS.contains(&name.to_ascii_uppercase().as_str())
+}
+
 fn s7_message(x: &str, ty: Type) -> String {
     format!("'{x}' is {ty}, an S7 type that IEC 61131-3 lacks; PLCopen XML cannot express it")
 }
@@ -694,6 +992,15 @@ fn item_range(node: &SyntaxNode) -> TextRange {
     };
     let last = significant.last().unwrap_or_else(|| first.clone());
     TextRange::new(first.text_range().start(), last.text_range().end())
+}
+
+/// The significant tokens of a node within `range`, joined by single spaces.
+fn collapsed_range(node: &SyntaxNode, range: TextRange) -> String {
+    tokens_of(node)
+        .filter(|t| !t.kind().is_trivia() && range.contains_range(t.text_range()))
+        .map(|t| t.text().to_owned())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// The significant tokens of a node joined by single spaces, without the `;`.

@@ -7,6 +7,8 @@
 //!   of a diagnostic is marked preferred (the editor's "auto fix"): its only fix, or else the
 //!   replacement with the closest existing name ([`crate::Fix::preferred`]).
 //!   Each fix is re-laid-out so that a formatted file stays formatted ([`super::relayout`]).
+//!   `check`'s HG8002/HG8003 (a group without `fc`/`db`) also carry the fix of `build`'s
+//!   HG8101, which inserts free numbers (`crate::build::rules::missing_clause_fix`).
 //! * [`Analysis::format_edits`] turns the canonical layout of [`crate::format::format`] into
 //!   edits: one per run of changed lines, found by a line diff of the old and the new text.
 
@@ -47,10 +49,18 @@ impl Analysis {
                 return Vec::new();
             };
             let paths: Vec<String> = files.iter().map(|f| f.path(db).clone()).collect();
-            check::cached_file_diagnostics(db, ws, file)
-                .iter()
-                .filter(|d| d.range.intersect(range).is_some())
+            let diagnostics = check::cached_file_diagnostics(db, ws, file);
+            let in_range = || {
+                diagnostics
+                    .iter()
+                    .filter(|d| d.range.intersect(range).is_some())
+            };
+            in_range()
                 .flat_map(|d| actions_of(d, &paths))
+                .chain(
+                    in_range()
+                        .flat_map(|d| build_fix_actions(db, ws, file, d, diagnostics, &paths)),
+                )
                 .map(|mut action| {
                     // A formatted file stays formatted (`relayout`).
                     action.edit = relayout::keep_formatted(db, ws, action.edit);
@@ -110,6 +120,37 @@ impl Analysis {
 }
 
 /// One action per fix of `diagnostic`.
+/// The fix of `build`'s HG8101 (insert the missing `fc`/`db` with free numbers), offered on
+/// `check`'s HG8002 (or HG8003 when the group has no HG8002) of the group: the server does
+/// not publish HG81xx, so the warning the editor shows carries the fix.
+fn build_fix_actions(
+    db: &dyn salsa::Database,
+    ws: crate::db::Workspace,
+    file: crate::db::File,
+    diagnostic: &Diagnostic,
+    all: &[Diagnostic],
+    paths: &[String],
+) -> Vec<CodeAction> {
+    let carries = match diagnostic.code.as_str() {
+        "HG8002" => true,
+        "HG8003" => !all
+            .iter()
+            .any(|d| d.code.as_str() == "HG8002" && d.range == diagnostic.range),
+        _ => false,
+    };
+    if !carries {
+        return Vec::new();
+    }
+    let Some(fix) = crate::build::rules::missing_clause_fix(db, ws, file, diagnostic.range) else {
+        return Vec::new();
+    };
+    let carrier = Diagnostic {
+        fixes: vec![fix],
+        ..diagnostic.clone()
+    };
+    actions_of(&carrier, paths)
+}
+
 fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
     diagnostic
         .fixes
@@ -306,6 +347,26 @@ mod tests {
         insta::assert_snapshot!(actions("graph G < state 0 < C: U a$0 > >"), @r#"
         Insert ';' [HG0002] preferred at Some("")
           main.higraph: "graph G < state 0 < C: U a; > >"
+        "#);
+    }
+
+    #[test]
+    fn a_group_without_fc_and_db_gets_free_numbers() {
+        insta::assert_snapshot!(actions(
+            "symbols < Dosieren : FC 1; >\ngraph G <\n  state 0 < C: L DB1.DBW 0; T MW 0; >\n  trans any->0 < U INIT_SD; >\n>\ngroup $0Anlage \"line\" <\n  instance I : G < >\n>\n"
+        ), @r#"
+        Insert 'fc FC 2 db DB 2' [HG8002] preferred at Some("Anlage")
+          main.higraph: "symbols < Dosieren : FC 1; >\ngraph G <\n  state 0 < C: L DB1.DBW 0; T MW 0; >\n  trans any->0 < U INIT_SD; >\n>\ngroup Anlage fc FC 2 db DB 2 \"line\" <\n  instance I : G < >\n>\n"
+        "#);
+    }
+
+    #[test]
+    fn a_group_without_db_gets_a_free_db_after_its_fc() {
+        insta::assert_snapshot!(actions(
+            "graph G <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\ngroup $0Anlage fc FC 1 <\n  instance I : G < >\n>\n"
+        ), @r#"
+        Insert 'db DB 1' [HG8003] preferred at Some("Anlage")
+          main.higraph: "graph G <\n  state 0 < >\n  trans any->0 < U INIT_SD; >\n>\ngroup Anlage fc FC 1 db DB 1 <\n  instance I : G < >\n>\n"
         "#);
     }
 

@@ -230,6 +230,18 @@ impl GraphLowering<'_, '_> {
         let Some(block) = self.lw.block_of_ref(&target, self.mnemonic) else {
             return Operand::None;
         };
+        if let Some(idb) = args.blocks().nth(1) {
+            let text = if let Some(address) = idb.address() {
+                address.compact_text()
+            } else if let Some(name) = idb.name_ref() {
+                name.text()
+            } else if let Some(symbol) = idb.symbol_ref() {
+                symbol.name()
+            } else {
+                String::new()
+            };
+            self.lw.names.call_dbs.insert(origin, text);
+        }
         let mut params = Vec::new();
         for param in args.params() {
             let Some(formal) = param.formal() else {

@@ -23,4 +23,6 @@ pub(crate) struct LowerNames {
     pub literals: HashMap<Slot, String>,
     /// `wait`/`supervise` operands written as a symbol: (graph, state, supervise) → name.
     pub time_symbols: HashMap<(GraphId, u16, bool), String>,
+    /// `CALL FB n, DB m`: the instance data block as written, by the call's origin.
+    pub call_dbs: HashMap<Origin, String>,
 }

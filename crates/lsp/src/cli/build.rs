@@ -27,7 +27,7 @@ use higraph_analysis::{AnalysisHost, FileId};
 use super::output::{self, Report, Reported, SourceFile, Sources};
 use super::paths::OutputPaths;
 use super::{BuildArgs, BuildTarget, CliError, EXIT_FAILURE, Format, write_stdout};
-use crate::build::{items_text, output_folder, plural, write_files};
+use crate::build::{items_text, items_to_build, output_folder, plural, write_files};
 use crate::workspace;
 
 pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
@@ -92,12 +92,13 @@ pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
     };
 
     // The diagnostics, as `check` prints them.
-    let file_id = |path: &str| {
-        files
-            .iter()
-            .position(|f| f.path == path)
-            .map(|i| FileId(i as u32))
-    };
+    let ids: std::collections::HashMap<&str, FileId> = files
+        .iter()
+        .enumerate()
+        .rev() // the first file of a path wins
+        .map(|(i, f)| (f.path.as_str(), FileId(i as u32)))
+        .collect();
+    let file_id = |path: &str| ids.get(path).copied();
     let reported: Vec<Reported> = result
         .checked
         .iter()
@@ -131,8 +132,13 @@ pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
             .join(", ");
         let _ = writeln!(
             io::stderr(),
-            "error: nothing built: errors in the {items} to build or in what they use \
-             ({files})"
+            "error: nothing built: errors in {} to build or in what {} ({files})",
+            items_to_build(result.groups, result.charts),
+            if result.groups + result.charts == 1 {
+                "it uses"
+            } else {
+                "they use"
+            }
         );
         return Ok(ExitCode::from(EXIT_FAILURE));
     }
@@ -147,7 +153,12 @@ pub(crate) fn run(args: &BuildArgs) -> Result<ExitCode, CliError> {
         } else {
             "under the given paths"
         };
-        let _ = writeln!(io::stderr(), "nothing to build: {what} {place}");
+        let hint = match options.target {
+            Target::Awl => " (--target plcopen or all builds the charts)",
+            Target::Plcopen => " (--target awl or all builds the groups)",
+            Target::All => "",
+        };
+        let _ = writeln!(io::stderr(), "nothing to build: {what} {place}{hint}");
         return Ok(ExitCode::SUCCESS);
     }
 

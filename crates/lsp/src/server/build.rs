@@ -154,8 +154,14 @@ pub(crate) fn build(
             unchanged: Vec::new(),
             refused: true,
             message: format!(
-                "nothing built: {errors} error{} in the {items} to build or in what they use{first}",
-                if errors == 1 { "" } else { "s" }
+                "nothing built: {errors} error{} in {} to build or in what {}{first}",
+                if errors == 1 { "" } else { "s" },
+                crate::build::items_to_build(result.groups, result.charts),
+                if result.groups + result.charts == 1 {
+                    "it uses"
+                } else {
+                    "they use"
+                }
             ),
         });
     }
