@@ -942,7 +942,7 @@ impl<'a> Gen<'a> {
         Ok(match operand {
             Operand::None | Operand::Call(_) => String::new(),
             Operand::Imm(bits) => match self.names.literals.get(&slot) {
-                Some(text) => text.clone(),
+                Some(text) => short_literal(text),
                 None => imm_text(op, *bits),
             },
             Operand::Var(v) => {
@@ -1866,6 +1866,8 @@ impl<'a> Gen<'a> {
                     .names
                     .var_comments
                     .get(&(inst.graph, v as VarIdx))
+                    .map(String::as_str)
+                    .or_else(|| Predef::ALL.get(v).map(|p| predef_comment(*p)))
                     .map(|c| format!("\t//{}", one_line(c)))
                     .unwrap_or_default();
                 match &init {
@@ -2034,6 +2036,30 @@ enum ChangeKind {
     Normal,
 }
 
+/// What a predefined variable's DB member holds (`runtime.md` §2.7).
+fn predef_comment(p: Predef) -> &'static str {
+    match p {
+        Predef::ManualMode => "manual transitions allowed",
+        Predef::AutomaticMode => "automatic transitions allowed",
+        Predef::UsrMsgQuit => "acknowledgement (no effect)",
+        Predef::InitSd => "copy of the FC input INIT_SD",
+        Predef::CurrentState => "current state number",
+        Predef::PreviousState => "state before the last change",
+        Predef::StateChange => "1 in the cycle of a change",
+        Predef::StExpired => "supervision time ran out",
+        Predef::StExpiredPrev => "ST_Expired when the previous state was left",
+        Predef::WtExpired => "wait time ran out",
+        Predef::StStop => "pause the supervision time",
+        Predef::WtStop => "pause the wait time",
+        Predef::StCurrValue => "supervision time left (ms)",
+        Predef::WtCurrValue => "wait time left (ms)",
+        Predef::StValid => "a supervision time runs",
+        Predef::WtValid => "a wait time runs",
+        Predef::UsrMsgSend => "the state is a fault or message state",
+        Predef::UsrMsgStat => "always 0",
+    }
+}
+
 /// Separates an absolute operand from the name it stands for (written as a comment).
 const NOTE: char = '\u{1}';
 
@@ -2086,6 +2112,29 @@ fn target_text(t: Target) -> String {
 
 fn one_line(text: &str) -> String {
     text.replace(['\r', '\n'], " ")
+}
+
+/// A constant as written, with the long type prefixes in their short form (`S5TIME#10S` →
+/// `S5T#10S`, `TIME#` → `T#`, `DATE#` → `D#`, `TIME_OF_DAY#` → `TOD#`), which every STEP 7
+/// compiler and Awlsim read.
+fn short_literal(text: &str) -> String {
+    const LONG: [(&str, &str); 5] = [
+        ("S5TIME#", "S5T#"),
+        ("TIME_OF_DAY#", "TOD#"),
+        ("DATE_AND_TIME#", "DT#"),
+        ("TIME#", "T#"),
+        ("DATE#", "D#"),
+    ];
+    let (sign, body) = match text.strip_prefix('-') {
+        Some(rest) => ("-", rest),
+        None => ("", text),
+    };
+    for (long, short) in LONG {
+        if body.len() >= long.len() && body[..long.len()].eq_ignore_ascii_case(long) {
+            return format!("{sign}{short}{}", &body[long.len()..]);
+        }
+    }
+    text.to_owned()
 }
 
 /// The text of an immediate without a written form.
@@ -2201,6 +2250,18 @@ mod tests {
         assert_eq!(l.place(Ty::Int), Offset { byte: 14, bit: 0 });
         assert_eq!(l.place(Ty::String(4)), Offset { byte: 16, bit: 0 });
         assert_eq!(l.place(Ty::Real), Offset { byte: 22, bit: 0 });
+    }
+
+    #[test]
+    fn long_literal_prefixes_are_shortened() {
+        assert_eq!(short_literal("S5TIME#10S"), "S5T#10S");
+        assert_eq!(short_literal("s5time#10s"), "S5T#10s");
+        assert_eq!(short_literal("TIME#1H"), "T#1H");
+        assert_eq!(short_literal("TIME_OF_DAY#1:00:00"), "TOD#1:00:00");
+        assert_eq!(short_literal("DATE#1990-01-02"), "D#1990-01-02");
+        assert_eq!(short_literal("T#5S"), "T#5S");
+        assert_eq!(short_literal("'T'"), "'T'");
+        assert_eq!(short_literal("W#16#FF"), "W#16#FF");
     }
 
     #[test]

@@ -147,7 +147,7 @@ pub(super) fn group_source(
             .filter_map(|(o, text)| Some((*o, block_name(index, text, mnemonic)?)))
             .collect(),
         symbols,
-        var_comments: HashMap::new(),
+        var_comments: var_comments(db, index, &lw.program),
     };
     let opt = awlgen::Options {
         absolute: options.absolute,
@@ -165,6 +165,35 @@ pub(super) fn group_source(
         bytes,
         symbols: out.symbols,
     })
+}
+
+/// The comments of the declared variables of the program's graphs, for the DB members.
+fn var_comments(
+    db: &dyn salsa::Database,
+    index: &GlobalIndex,
+    program: &higraph_runtime::Program,
+) -> HashMap<(u32, u16), String> {
+    let mut out = HashMap::new();
+    for (g, graph) in program.graphs.iter().enumerate() {
+        let Some(item) = index.graph(&graph.name) else {
+            continue;
+        };
+        let loc = ItemLoc::new(db, item.file, item.item);
+        let Some(ast::Item::Graph(node)) = db::item_root(db, loc).and_then(ast::Item::cast) else {
+            continue;
+        };
+        for (_, decl) in crate::rules::decls::declarations(node.var_sections()) {
+            let (Some(name), Some(comment)) = (decl.name(), decl.comment()) else {
+                continue;
+            };
+            let name = name.text();
+            if let Some(v) = graph.vars.iter().position(|v| v.name == name) {
+                out.entry((g as u32, v as u16))
+                    .or_insert_with(|| comment.value());
+            }
+        }
+    }
+    out
 }
 
 /// A block by its address (`FC 1`, `FC1`) or symbol.
