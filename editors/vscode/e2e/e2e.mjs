@@ -2,7 +2,7 @@
 // the extension end to end. Inputs come from run.sh through the environment:
 //   E2E_URL (workbench URL with ?folder=), E2E_TEST_URL (the same for the test workspace),
 //   E2E_WS (workspace), E2E_TEST_WS (the test workspace), E2E_SHOTS, E2E_CACHE.
-import { existsSync, readFileSync } from 'node:fs';
+import { existsSync, readFileSync, rmSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { join } from 'node:path';
 
@@ -247,6 +247,38 @@ try {
   }, { tries: 30 });
   check(!!toast && /Anlage|1 group|written|built/i.test(toast), `the build's summary is shown (${(toast ?? 'no notification').replace(/\s+/g, ' ').trim().slice(0, 120)})`);
   await shot('9-build');
+
+  // (11) the code action "Build this group (Anlage)" on the group header builds that group;
+  // the extension reports its answer like the palette command's (the middleware): with
+  // build/Anlage.awl removed first, one file is written and symbols.sdf is unchanged
+  await page.keyboard.press('Escape');
+  rmSync(awl, { force: true });
+  await open('anlage.higraph');
+  await editorLines.click();
+  await page.keyboard.press('Control+G');
+  await page.keyboard.type('15');
+  await page.keyboard.press('Enter');
+  await page.keyboard.press('Home');
+  const action = await poll(async () => {
+    await page.keyboard.press('Control+.');
+    const row = page.locator('.action-widget').getByText('Build this group').first();
+    const shown = await row.waitFor({ state: 'visible', timeout: 3000 }).then(() => true, () => false);
+    if (shown) return row;
+    await page.keyboard.press('Escape');
+    return null;
+  }, { tries: 10 });
+  check(!!action, 'the light bulb on the group header offers "Build this group"');
+  if (action) {
+    await action.click();
+    const rebuilt = await poll(async () => existsSync(awl), { tries: 60 });
+    check(!!rebuilt, 'the code action writes build/Anlage.awl again');
+    const report = await poll(async () => {
+      const t = await page.locator('.notifications-toasts .notification-toast').allInnerTexts();
+      return t.find((x) => /group Anlage|1 unchanged/.test(x)) ?? null;
+    }, { tries: 30 });
+    check(!!report, `the code action's build is reported (${(report ?? 'no notification').replace(/\s+/g, ' ').trim().slice(0, 120)})`);
+  }
+  await shot('10-build-action');
 } catch (err) {
   failures.push(String(err));
   console.error('FAIL', err);

@@ -9,7 +9,8 @@
 # `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and
 # (in a second folder) the test workspace of tests/data/testing, and checks highlighting, diagnostics (squiggle +
 # Problems panel), completion, the graph preview, the test code lens, running a test from
-# the Testing view, and "HiGraph: Build" writing the group's STEP 7 source.
+# the Testing view, and "HiGraph: Build" and the code action "Build this group" writing the
+# group's STEP 7 source.
 # Screenshots go to target/e2e-screenshots/. Exits non-zero on any failed check.
 set -euo pipefail
 start=$SECONDS
