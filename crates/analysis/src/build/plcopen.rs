@@ -1129,7 +1129,7 @@ mod tests {
                     continue;
                 }
                 let text = std::fs::read(&p).unwrap_or_default();
-                if !p.extension().is_some_and(|x| x == "higraph")
+                if p.extension().is_none_or(|x| x != "higraph")
                     || !String::from_utf8_lossy(&text).contains("chart")
                 {
                     continue;
