@@ -14,7 +14,7 @@ use higraph_analysis::registry::RULES;
 /// HG81xx of `build`, which `export.md` asks for ("a diagnostic in a new code") without
 /// tabling them.
 const PROJECT_CODES: &[&str] = &[
-    "HG0012", "HG0013", "HG8101", "HG8102", "HG8103", "HG8104", "HG8105",
+    "HG0012", "HG0013", "HG8101", "HG8102", "HG8103", "HG8104", "HG8105", "HG8106",
 ];
 
 fn catalogue() -> Option<(PathBuf, String)> {
