@@ -463,10 +463,11 @@ fn load_text(text: &str) -> AnalysisHost {
 fn calls_are_written_as_called() {
     let host = load_text(
         r#"
-symbols < Dosieren : FC 30; IDB : DB 21; Menge : MW 12 INT; >
+symbols < Dosieren : FC 30; IDB : DB 21; Menge : MW 12 INT; Wartezeit : MD 60 TIME; >
 graph G <
   in < Go : BOOL; K : INT; >
   state 0 <
+    wait Wartezeit;
     C:
       CALL FB 20, DB 20 (Start := Go, Wert := K, Ziel := Menge);
       CALL Dosieren (Menge := 5);
@@ -502,6 +503,10 @@ group Gr fc FC 1 db DB 1 < instance I : G < Go := M 0.0; K := 7; > >
     assert!(abs.contains("      CALL  FB 22, DB 21;\n"), "{abs}");
     assert!(abs.contains("      CC    FC 10;\n"), "{abs}");
     assert!(abs.contains("    K : INT := 7;"), "{abs}");
+    assert!(
+        abs.contains("      L     MD 60;            //\"Wartezeit\"\n"),
+        "{abs}"
+    );
     let symbolic = BuildOptions {
         absolute: false,
         ..ABSOLUTE
@@ -510,6 +515,7 @@ group Gr fc FC 1 db DB 1 < instance I : G < Go := M 0.0; K := 7; > >
     let sym = text(&bytes);
     assert!(sym.contains("      CALL  \"Dosieren\" (\n"), "{sym}");
     assert!(sym.contains("      CALL  FB 22, \"IDB\";\n"), "{sym}");
+    assert!(sym.contains("      L     \"Wartezeit\";\n"), "{sym}");
     assert!(
         sym.contains("           Ziel                     := \"Menge\");\n"),
         "{sym}"
