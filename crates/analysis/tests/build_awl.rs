@@ -227,6 +227,19 @@ fn differential(dir: &str, group: &str, seed: u64, cycles: usize) {
     differential_with(dir, None, group, seed, cycles, true)
 }
 
+/// The generated workload's 255 instances (slow: Awlsim compiles 11 MB of source).
+#[test]
+#[ignore]
+fn awlsim_max_group() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("max-group-ws");
+    for (path, text) in higraph_workload::max_group(1) {
+        let p = dir.join(&path);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(p, text).unwrap();
+    }
+    differential_with(dir.to_str().unwrap(), None, "Anlage", 3, 20, true);
+}
+
 fn differential_with(
     dir: &str,
     config: Option<&str>,
@@ -269,7 +282,65 @@ fn differential_with(
         if intl { "-intl" } else { "" },
         if absolute { "" } else { "-symbolic" }
     ));
-    std::fs::write(&awl, &bytes).unwrap();
+    // Data blocks the graphs address besides the group's own exist in the simulator (every
+    // DB does); Awlsim needs them declared.
+    let mut file = bytes.clone();
+    {
+        let lowered = host.analysis().lower_workspace().unwrap();
+        let mut dbs = std::collections::BTreeSet::new();
+        for inst in lowered.program.groups.iter().flat_map(|g| &g.instances) {
+            for p in &inst.binding {
+                if let Place::Mem {
+                    area: MemArea::Db(n),
+                    ..
+                } = p
+                {
+                    dbs.insert(*n);
+                }
+            }
+        }
+        for graph in &lowered.program.graphs {
+            let mut all = Vec::new();
+            all.extend(&graph.permanent_pre);
+            all.extend(&graph.permanent_post);
+            for t in &graph.any {
+                all.extend(&t.conditions);
+                all.extend(&t.actions);
+            }
+            for st in &graph.states {
+                for b in [&st.entry, &st.pre, &st.cyclic, &st.exit] {
+                    all.extend(b);
+                }
+                for t in &st.transitions {
+                    all.extend(&t.conditions);
+                    all.extend(&t.actions);
+                }
+            }
+            for b in all {
+                for ins in &b.code {
+                    if let Operand::Place(Place::Mem {
+                        area: MemArea::Db(n),
+                        ..
+                    }) = &ins.operand
+                    {
+                        dbs.insert(*n);
+                    }
+                }
+            }
+        }
+        let text = self::text(&bytes);
+        for n in dbs {
+            if !text.contains(&format!("DATA_BLOCK DB {n}\n")) {
+                file.extend_from_slice(
+                    format!(
+                        "\r\nDATA_BLOCK DB {n}\r\n  STRUCT\r\n   a : ARRAY [0 .. 1023] OF BYTE;\r\n  END_STRUCT ;\r\nBEGIN\r\nEND_DATA_BLOCK\r\n"
+                    )
+                    .as_bytes(),
+                );
+            }
+        }
+    }
+    std::fs::write(&awl, &file).unwrap();
     let sdf = awl.with_extension("sdf");
     std::fs::write(&sdf, higraph_export::sdf::write(&symbols).unwrap()).unwrap();
     let text = text(&bytes);
@@ -463,10 +534,11 @@ fn load_text(text: &str) -> AnalysisHost {
 fn calls_are_written_as_called() {
     let host = load_text(
         r#"
-symbols < Dosieren : FC 30; IDB : DB 21; Menge : MW 12 INT; >
+symbols < Dosieren : FC 30; IDB : DB 21; Menge : MW 12 INT; Wartezeit : MD 60 TIME; >
 graph G <
   in < Go : BOOL; K : INT; >
   state 0 <
+    wait Wartezeit;
     C:
       CALL FB 20, DB 20 (Start := Go, Wert := K, Ziel := Menge);
       CALL Dosieren (Menge := 5);
@@ -502,6 +574,10 @@ group Gr fc FC 1 db DB 1 < instance I : G < Go := M 0.0; K := 7; > >
     assert!(abs.contains("      CALL  FB 22, DB 21;\n"), "{abs}");
     assert!(abs.contains("      CC    FC 10;\n"), "{abs}");
     assert!(abs.contains("    K : INT := 7;"), "{abs}");
+    assert!(
+        abs.contains("      L     MD 60;            //\"Wartezeit\"\n"),
+        "{abs}"
+    );
     let symbolic = BuildOptions {
         absolute: false,
         ..ABSOLUTE
@@ -510,6 +586,7 @@ group Gr fc FC 1 db DB 1 < instance I : G < Go := M 0.0; K := 7; > >
     let sym = text(&bytes);
     assert!(sym.contains("      CALL  \"Dosieren\" (\n"), "{sym}");
     assert!(sym.contains("      CALL  FB 22, \"IDB\";\n"), "{sym}");
+    assert!(sym.contains("      L     \"Wartezeit\";\n"), "{sym}");
     assert!(
         sym.contains("           Ziel                     := \"Menge\");\n"),
         "{sym}"

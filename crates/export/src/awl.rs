@@ -28,7 +28,7 @@
 //!   on a state known only at run time (the `X` blocks of the source of an any-transition,
 //!   the entry into the target of a return transition, the `C` blocks of step 8, the `C-`
 //!   blocks and transitions of step 4) is reached through a jump list (`SPL`; a chain of
-//!   comparisons when a state number is above 255).
+//!   comparisons when a state number is 255 or above).
 //! * **Times from the CPU clock.** Each call reads `TIME_TCK` (`CALL SFC 64`) and takes the
 //!   milliseconds since the previous call as Δ (wrapping at 2^31 as the clock does); a fresh
 //!   DB updates no time (§2.6). Virtual time in Awlsim and real time on a CPU both work.
@@ -50,6 +50,12 @@
 //!   on a byte, 16- and 32-bit types and structures on an even byte, a structure's size even)
 //!   are applied, and a structure of odd size gets an explicit `HG_Pad` byte so that Awlsim
 //!   (which does not round a structure's size) lays the DB out the same way.
+//!
+//! Known differences from the simulator, none observable by a test or by the proof harness:
+//! the `NOT` around a timer or counter operation in the RLO-0 pass also sets STA (which the
+//! HiGraph subset cannot read); `FP`/`FN` on a formal wired to a constant, and a `CALL` output
+//! wired to such a formal, write the member that holds the constant (the simulator discards
+//! those writes).
 
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::fmt::Write as _;
@@ -1430,17 +1436,18 @@ impl<'a> Gen<'a> {
     }
 
     /// Inside a save: jumps by the state number in the WORD `var` to the label of its entry
-    /// in `targets`, or to `default`. A jump list (`SPL`) when every number is at most 255,
+    /// in `targets`, or to `default`. A jump list (`SPL`) when every number is below 255,
     /// else a chain of comparisons.
     fn jump_by_state(&mut self, var: &str, targets: &[(u16, String)], default: &str) {
         let max = targets.iter().map(|t| t.0).max().unwrap_or(0);
         if targets.is_empty() {
             self.g("SPA", default);
-        } else if max <= 255 {
+        } else if max < 255 {
+            // A jump list holds at most 255 jumps: numbers 0..=max, above max the default.
             let list_end = self.label();
             // As a DINT: the WORD zero-extended, so 32768.. is not negative.
             self.g("L", var);
-            self.g("L", "L#255");
+            self.g("L", &format!("L#{max}"));
             self.g(">D", "");
             self.g("SPB", default);
             self.g("L", var);

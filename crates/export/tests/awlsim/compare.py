@@ -36,6 +36,12 @@ def main():
     cpu = sim.getCPU()
     cpu.getConf().setConfiguredMnemonics(
         S7CPUConfig.MNEMONICS_DE if sc.get("mnemonics", "de") == "de" else S7CPUConfig.MNEMONICS_EN)
+    specs = cpu.getSpecs()
+    specs.setNrInputs(65536)
+    specs.setNrOutputs(65536)
+    specs.setNrFlags(65536)
+    specs.setNrTimers(2048)
+    specs.setNrCounters(2048)
     if sc.get("sdf"):
         text = open(sc["sdf"], "rb").read().decode("cp1252")
         rows = ['"%s";"%s";"%s";"%s"' % tuple(f.strip() for f in row)
