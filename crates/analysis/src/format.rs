@@ -159,6 +159,59 @@ pub fn format_with(text: &str, is_cancelled: &dyn Fn() -> bool) -> Result<String
     Ok(out)
 }
 
+/// The canonical layout of the top-level items (graphs, groups, charts, symbol tables, tests,
+/// options, …) that `range` touches, for range formatting: each such item's range in `text`
+/// with its text in [`format_with`]'s output of the whole file, when the two differ. So the
+/// result is exactly the full formatting restricted to those items (the file's mnemonic set,
+/// line endings and implicit priorities are those of the whole file), and the text between
+/// items is left alone. An item is touched when it overlaps a non-empty `range`, or contains
+/// an empty one (a cursor) at its start, end or inside. Refused like [`format_with`]: a file
+/// with syntax errors is [`FormatError::Syntax`].
+pub fn format_items_with(
+    text: &str,
+    range: TextRange,
+    is_cancelled: &dyn Fn() -> bool,
+) -> Result<Vec<(TextRange, String)>, FormatError> {
+    let formatted = format_with(text, is_cancelled)?;
+    let items = |text: &str| -> Vec<TextRange> {
+        parse(text)
+            .syntax_node()
+            .children()
+            .map(|item| item.text_range())
+            .collect()
+    };
+    let (old, new) = (items(text), items(&formatted));
+    if old.len() != new.len() {
+        return Err(FormatError::Internal(format!(
+            "the formatted file has {} top-level items, the file {}",
+            new.len(),
+            old.len()
+        )));
+    }
+    let touched = |item: TextRange| {
+        if range.is_empty() {
+            item.contains_inclusive(range.start())
+        } else {
+            range.start() < item.end() && item.start() < range.end()
+        }
+    };
+    let mut out = Vec::new();
+    for (old, new) in old.into_iter().zip(new).filter(|(old, _)| touched(*old)) {
+        let before = text.get(std::ops::Range::<usize>::from(old));
+        let after = formatted.get(std::ops::Range::<usize>::from(new));
+        match (before, after) {
+            (Some(before), Some(after)) if before == after => {}
+            (Some(_), Some(after)) => out.push((old, after.to_owned())),
+            _ => {
+                return Err(FormatError::Internal(
+                    "an item is not on character boundaries".into(),
+                ));
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// The deepest syntax tree the formatter lays out (its walks recurse once per level).
 const MAX_DEPTH: usize = 2000;
 

@@ -17,6 +17,7 @@
 //! | `semantic_tokens` | semantic highlighting |
 //! | `folding`         | folding ranges and selection ranges |
 //! | `code_actions`    | quick fixes from diagnostics; formatting edits |
+//! | `range_format`    | range formatting: the canonical layout of the items a range touches |
 
 use higraph_syntax::{TextRange, TextSize};
 
@@ -30,6 +31,7 @@ mod goto_definition;
 mod highlights;
 mod hover;
 mod inlay_hints;
+pub(crate) mod range_format;
 mod references;
 pub(crate) mod relayout;
 pub(crate) mod rename;
