@@ -134,7 +134,7 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
                 lsp::SemanticTokensOptions {
                     legend: convert::semantic_tokens_legend(),
                     range: Some(true),
-                    full: Some(lsp::SemanticTokensFullOptions::Bool(true)),
+                    full: Some(lsp::SemanticTokensFullOptions::Delta { delta: Some(true) }),
                     work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
                 },
             ),
@@ -147,6 +147,7 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
             },
         )),
         document_formatting_provider: Some(lsp::OneOf::Left(true)),
+        document_range_formatting_provider: Some(lsp::OneOf::Left(true)),
         ..lsp::ServerCapabilities::default()
     }
 }

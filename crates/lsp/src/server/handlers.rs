@@ -296,12 +296,39 @@ pub(crate) fn semantic_tokens_full(
         return Ok(None);
     };
     let tokens = snapshot.analysis.semantic_tokens(&path, None)?;
+    let data = convert::semantic_tokens(&tokens, &index, snapshot.encoding);
+    let (result_id, _) = snapshot.store_semantic_tokens(&path, None, &data);
     Ok(Some(lsp::SemanticTokensResult::Tokens(
-        lsp::SemanticTokens {
-            result_id: None,
-            data: convert::semantic_tokens(&tokens, &index, snapshot.encoding),
-        },
+        lsp::SemanticTokens { result_id, data },
     )))
+}
+
+/// `textDocument/semanticTokens/full/delta`: edits against the tokens of the previous result
+/// id when the server still holds them (the last answer for an open document), else the full
+/// tokens.
+pub(crate) fn semantic_tokens_full_delta(
+    snapshot: &Snapshot,
+    params: lsp::SemanticTokensDeltaParams,
+) -> HandlerResult<Option<lsp::SemanticTokensFullDeltaResult>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let tokens = snapshot.analysis.semantic_tokens(&path, None)?;
+    let data = convert::semantic_tokens(&tokens, &index, snapshot.encoding);
+    let previous = Some(params.previous_result_id.as_str());
+    Ok(Some(
+        match snapshot.store_semantic_tokens(&path, previous, &data) {
+            (result_id, Some(edits)) => {
+                lsp::SemanticTokensFullDeltaResult::TokensDelta(lsp::SemanticTokensDelta {
+                    result_id,
+                    edits,
+                })
+            }
+            (result_id, None) => {
+                lsp::SemanticTokensFullDeltaResult::Tokens(lsp::SemanticTokens { result_id, data })
+            }
+        },
+    ))
 }
 
 /// `textDocument/semanticTokens/range`.
@@ -414,6 +441,30 @@ pub(crate) fn formatting(
     match snapshot
         .analysis
         .format_edits_with(&path, &|| snapshot.is_cancelled())?
+    {
+        Ok(edits) => Ok(Some(
+            edits
+                .iter()
+                .map(|edit| convert::text_edit(&index, edit, snapshot.encoding))
+                .collect(),
+        )),
+        Err(reason) => Err(HandlerError::Failed(reason)),
+    }
+}
+
+/// `textDocument/rangeFormatting`: the canonical layout of the top-level items the range
+/// touches, or why the file cannot be formatted.
+pub(crate) fn range_formatting(
+    snapshot: &Snapshot,
+    params: lsp::DocumentRangeFormattingParams,
+) -> HandlerResult<Option<Vec<lsp::TextEdit>>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let range = convert::text_range(&index, params.range, snapshot.encoding);
+    match snapshot
+        .analysis
+        .range_format_edits_with(&path, range, &|| snapshot.is_cancelled())?
     {
         Ok(edits) => Ok(Some(
             edits

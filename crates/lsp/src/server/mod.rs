@@ -18,6 +18,7 @@ mod diagnostics;
 mod handlers;
 mod state;
 mod testing;
+mod token_delta;
 mod transport;
 mod vfs;
 
@@ -559,6 +560,18 @@ impl LanguageServer for Backend {
         .await
     }
 
+    async fn semantic_tokens_full_delta(
+        &self,
+        params: lsp::SemanticTokensDeltaParams,
+    ) -> jsonrpc::Result<Option<lsp::SemanticTokensFullDeltaResult>> {
+        self.answer(
+            "semanticTokens/full/delta",
+            params,
+            handlers::semantic_tokens_full_delta,
+        )
+        .await
+    }
+
     async fn semantic_tokens_range(
         &self,
         params: lsp::SemanticTokensRangeParams,
@@ -645,6 +658,14 @@ impl LanguageServer for Backend {
         params: lsp::DocumentFormattingParams,
     ) -> jsonrpc::Result<Option<Vec<lsp::TextEdit>>> {
         self.answer("formatting", params, handlers::formatting)
+            .await
+    }
+
+    async fn range_formatting(
+        &self,
+        params: lsp::DocumentRangeFormattingParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::TextEdit>>> {
+        self.answer("rangeFormatting", params, handlers::range_formatting)
             .await
     }
 }

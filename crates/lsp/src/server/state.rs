@@ -37,6 +37,7 @@ use tower_lsp_server::ls_types::{
 use super::capabilities::ClientSupport;
 use super::diagnostics::{DiagnosticsWorker, FileDiagnostics};
 use super::testing::{TestKey, TestRecord, TestRecords};
+use super::token_delta::TokenCache;
 use super::vfs::{Changed, Document, Documents, PathMap};
 use crate::workspace::{self, CONFIG_FILE, EXTENSION, FileFilter};
 
@@ -178,6 +179,8 @@ pub(crate) struct Snapshot {
     generation: u64,
     /// The tests run since the files last changed.
     test_records: TestRecords,
+    /// The last semantic tokens sent per open document (`token_delta`).
+    semantic_tokens: Arc<TokenCache>,
 }
 
 /// The line indexes of files that are not open, by workspace path, with the contents they
@@ -209,6 +212,22 @@ impl Snapshot {
     /// The flag [`Snapshot::is_cancelled`] reads, for the request's owner to set.
     pub(crate) fn cancel_flag(&self) -> Arc<AtomicBool> {
         self.cancelled.clone()
+    }
+
+    /// Remembers the semantic tokens answered for `path` (kept for open documents only) and
+    /// gives their result id, with the edits from the tokens of `previous` when that is the
+    /// id of the tokens remembered so far (see `token_delta`).
+    pub(crate) fn store_semantic_tokens(
+        &self,
+        path: &str,
+        previous: Option<&str>,
+        tokens: &[tower_lsp_server::ls_types::SemanticToken],
+    ) -> (
+        Option<String>,
+        Option<Vec<tower_lsp_server::ls_types::SemanticTokensEdit>>,
+    ) {
+        self.semantic_tokens
+            .store(path, previous, tokens, &|p| self.open_uris.contains_key(p))
     }
 
     /// The contents generation of the snapshot's files: it changes whenever a file does.
@@ -324,6 +343,8 @@ struct World {
     test_records: TestRecords,
     /// The client refreshes code lenses on request.
     code_lens_refresh: bool,
+    /// The last semantic tokens sent per open document (see [`Snapshot`]).
+    semantic_tokens: Arc<TokenCache>,
 }
 
 impl World {
@@ -349,6 +370,7 @@ impl World {
             tested: 0,
             test_records: TestRecords::default(),
             code_lens_refresh: false,
+            semantic_tokens: Arc::default(),
         }
     }
 
@@ -462,6 +484,7 @@ impl World {
             cancelled: Arc::new(AtomicBool::new(false)),
             generation: self.generation,
             test_records: self.test_records.clone(),
+            semantic_tokens: self.semantic_tokens.clone(),
         }
     }
 
@@ -673,6 +696,7 @@ impl World {
             return;
         };
         Arc::make_mut(&mut self.open_uris).remove(&name);
+        self.semantic_tokens.forget(&name);
         if !document.analysed {
             return;
         }
