@@ -10,6 +10,8 @@ mod build;
 mod diagnostics;
 #[path = "lsp/features.rs"]
 mod features;
+#[path = "lsp/format_tokens.rs"]
+mod format_tokens;
 #[path = "lsp/lifecycle.rs"]
 mod lifecycle;
 #[path = "lsp/robustness.rs"]
