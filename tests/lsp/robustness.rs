@@ -61,12 +61,14 @@ const DOCUMENT_METHODS: &[&str] = &[
     "textDocument/foldingRange",
     "textDocument/semanticTokens/full",
     "textDocument/formatting",
+    "textDocument/semanticTokens/full/delta",
 ];
 
 const RANGE_METHODS: &[&str] = &[
     "textDocument/semanticTokens/range",
     "textDocument/inlayHint",
     "textDocument/codeAction",
+    "textDocument/rangeFormatting",
 ];
 
 /// The state of the random conversation.
@@ -188,7 +190,7 @@ impl Session {
                 let uri = self.any_uri();
                 self.request(
                     method,
-                    json!({"textDocument": {"uri": uri}, "options": {"tabSize": 2, "insertSpaces": true}}),
+                    json!({"textDocument": {"uri": uri}, "options": {"tabSize": 2, "insertSpaces": true}, "previousResultId": "1"}),
                 );
             }
             10 => {
@@ -197,7 +199,7 @@ impl Session {
                 let range = self.range();
                 self.request(
                     method,
-                    json!({"textDocument": {"uri": uri}, "range": range, "context": {"diagnostics": []}}),
+                    json!({"textDocument": {"uri": uri}, "range": range, "context": {"diagnostics": []}, "options": {"tabSize": 2, "insertSpaces": true}}),
                 );
             }
             11 => {
