@@ -17,12 +17,14 @@
 //! | `semantic_tokens` | semantic highlighting |
 //! | `folding`         | folding ranges and selection ranges |
 //! | `code_actions`    | quick fixes from diagnostics; formatting edits |
+//! | `document_links`  | symbol-table paths in `higraph.toml`, codes in `higraph-allow` comments |
 
 use higraph_syntax::{TextRange, TextSize};
 
 mod code_actions;
 mod completion;
 pub mod defs;
+mod document_links;
 #[cfg(test)]
 pub(crate) mod fixture;
 mod folding;
@@ -38,6 +40,7 @@ mod symbols;
 
 pub use code_actions::CodeAction;
 pub use completion::{CompletionItem, CompletionKind};
+pub use document_links::{DocumentLink, LinkTarget};
 pub use folding::{Fold, FoldKind};
 pub use highlights::HighlightKind;
 pub use hover::Hover;
