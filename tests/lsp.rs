@@ -12,6 +12,8 @@ mod diagnostics;
 mod features;
 #[path = "lsp/lifecycle.rs"]
 mod lifecycle;
+#[path = "lsp/links.rs"]
+mod links;
 #[path = "lsp/robustness.rs"]
 mod robustness;
 #[path = "lsp/testing.rs"]
