@@ -14,6 +14,8 @@ mod features;
 mod format_tokens;
 #[path = "lsp/lifecycle.rs"]
 mod lifecycle;
+#[path = "lsp/links.rs"]
+mod links;
 #[path = "lsp/robustness.rs"]
 mod robustness;
 #[path = "lsp/testing.rs"]

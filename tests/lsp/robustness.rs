@@ -59,6 +59,7 @@ const POSITION_METHODS: &[&str] = &[
 const DOCUMENT_METHODS: &[&str] = &[
     "textDocument/documentSymbol",
     "textDocument/foldingRange",
+    "textDocument/documentLink",
     "textDocument/semanticTokens/full",
     "textDocument/formatting",
     "textDocument/semanticTokens/full/delta",

@@ -85,6 +85,9 @@ export function activate(context: vscode.ExtensionContext): void {
       if (e.affectsConfiguration('higraph.server.path')) {
         output.appendLine('higraph.server.path changed: restarting the server.');
         void queue(() => restart(context, false));
+      } else if (e.affectsConfiguration('higraph.rulesBaseUri')) {
+        output.appendLine('higraph.rulesBaseUri changed: restarting the server.');
+        void queue(() => restart(context, false));
       }
     }),
   );
@@ -130,8 +133,11 @@ async function start(context: vscode.ExtensionContext): Promise<void> {
   watchers = ['**/*.higraph', '**/higraph.toml', '**/*.sdf'].map((glob) =>
     vscode.workspace.createFileSystemWatcher(glob),
   );
+  // Where the rules' pages are (links on codes); empty: the server's own default.
+  const rulesBaseUri = vscode.workspace.getConfiguration('higraph').get<string>('rulesBaseUri', '');
   const clientOptions: LanguageClientOptions = {
     documentSelector: [{ language: 'higraph' }],
+    initializationOptions: rulesBaseUri ? { rulesBaseUri } : undefined,
     synchronize: { fileEvents: watchers },
     outputChannel: output,
     middleware: {

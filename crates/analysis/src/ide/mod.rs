@@ -18,12 +18,14 @@
 //! | `folding`         | folding ranges and selection ranges |
 //! | `code_actions`    | quick fixes from diagnostics; formatting edits |
 //! | `range_format`    | range formatting: the canonical layout of the items a range touches |
+//! | `document_links`  | symbol-table paths in `higraph.toml`, codes in `higraph-allow` comments |
 
 use higraph_syntax::{TextRange, TextSize};
 
 mod code_actions;
 mod completion;
 pub mod defs;
+mod document_links;
 #[cfg(test)]
 pub(crate) mod fixture;
 mod folding;
@@ -40,6 +42,7 @@ mod symbols;
 
 pub use code_actions::CodeAction;
 pub use completion::{CompletionItem, CompletionKind};
+pub use document_links::{DocumentLink, LinkTarget};
 pub use folding::{Fold, FoldKind};
 pub use highlights::HighlightKind;
 pub use hover::Hover;

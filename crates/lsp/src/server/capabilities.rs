@@ -25,6 +25,8 @@ pub(crate) struct ClientSupport {
     /// The client shows markdown in hovers: it lists no hover content formats (most clients
     /// do not, and all show markdown) or lists markdown among them.
     pub hover_markdown: bool,
+    /// The client shows `codeDescription.href` of a diagnostic (a link to the rule's page).
+    pub code_description: bool,
 }
 
 impl Default for ClientSupport {
@@ -37,6 +39,7 @@ impl Default for ClientSupport {
             snippets: false,
             line_folding_only: false,
             hover_markdown: true,
+            code_description: false,
         }
     }
 }
@@ -82,6 +85,10 @@ impl ClientSupport {
                 .is_none_or(|formats| {
                     formats.is_empty() || formats.contains(&lsp::MarkupKind::Markdown)
                 }),
+            code_description: text_document
+                .and_then(|text| text.publish_diagnostics.as_ref())
+                .and_then(|publish| publish.code_description_support)
+                .unwrap_or(false),
         }
     }
 }
@@ -148,6 +155,11 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
         )),
         document_formatting_provider: Some(lsp::OneOf::Left(true)),
         document_range_formatting_provider: Some(lsp::OneOf::Left(true)),
+        // Symbol-table paths in `higraph.toml`, codes in `higraph-allow` comments.
+        document_link_provider: Some(lsp::DocumentLinkOptions {
+            resolve_provider: Some(false),
+            work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
+        }),
         ..lsp::ServerCapabilities::default()
     }
 }

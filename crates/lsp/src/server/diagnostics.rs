@@ -228,7 +228,15 @@ fn convert_file(
     };
     let mut converted: Vec<lsp::Diagnostic> = diagnostics
         .iter()
-        .map(|diagnostic| convert::diagnostic(diagnostic, &index, encoding, location))
+        .map(|diagnostic| {
+            let mut converted = convert::diagnostic(diagnostic, &index, encoding, location);
+            if snapshot.support.code_description {
+                converted.code_description = snapshot
+                    .rule_page(diagnostic.code.as_str())
+                    .map(|href| lsp::CodeDescription { href });
+            }
+            converted
+        })
         .collect();
     converted.sort_by(|a, b| {
         let key = |d: &lsp::Diagnostic| {

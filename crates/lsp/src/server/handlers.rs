@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use higraph_analysis::ide::{FilePosition, SourceChange};
+use higraph_analysis::ide::{FilePosition, LinkTarget, SourceChange};
 use higraph_analysis::{LineIndex, TextRange};
 use tower_lsp_server::ls_types as lsp;
 
@@ -256,6 +256,38 @@ pub(crate) fn folding_range(
         folds
             .iter()
             .filter_map(|fold| convert::folding_range(fold, &index, line_folding_only))
+            .collect(),
+    ))
+}
+
+/// `textDocument/documentLink`: symbol-table paths in `higraph.toml` (to the file) and codes
+/// in `higraph-allow` comments (to the rule's page, when rule links are on).
+pub(crate) fn document_link(
+    snapshot: &Snapshot,
+    params: lsp::DocumentLinkParams,
+) -> HandlerResult<Option<Vec<lsp::DocumentLink>>> {
+    let Some((path, index)) = file(snapshot, &params.text_document) else {
+        return Ok(None);
+    };
+    let links = snapshot.analysis.document_links(&path)?;
+    Ok(Some(
+        links
+            .iter()
+            .filter_map(|link| {
+                let (target, tooltip) = match &link.target {
+                    LinkTarget::File(file) => (snapshot.uri(file)?, format!("open {file}")),
+                    LinkTarget::Rule(code) => (
+                        snapshot.rule_page(code)?,
+                        format!("documentation of {code}"),
+                    ),
+                };
+                Some(lsp::DocumentLink {
+                    range: convert::range(&index, link.range, snapshot.encoding),
+                    target: Some(target),
+                    tooltip: Some(tooltip),
+                    data: None,
+                })
+            })
             .collect(),
     ))
 }

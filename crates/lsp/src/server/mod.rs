@@ -16,6 +16,7 @@ mod capabilities;
 mod convert;
 mod diagnostics;
 mod handlers;
+mod rule_pages;
 mod state;
 mod testing;
 mod token_delta;
@@ -341,6 +342,7 @@ impl LanguageServer for Backend {
             root: client_root(&params),
             support,
             code_lens_refresh,
+            rules_base: rule_pages::option(params.initialization_options.as_ref()),
         });
         Ok(InitializeResult {
             capabilities: capabilities::server_capabilities(&support),
@@ -537,6 +539,14 @@ impl LanguageServer for Backend {
         params: lsp::FoldingRangeParams,
     ) -> jsonrpc::Result<Option<Vec<lsp::FoldingRange>>> {
         self.answer("foldingRange", params, handlers::folding_range)
+            .await
+    }
+
+    async fn document_link(
+        &self,
+        params: lsp::DocumentLinkParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::DocumentLink>>> {
+        self.answer("documentLink", params, handlers::document_link)
             .await
     }
 

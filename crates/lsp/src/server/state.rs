@@ -49,6 +49,8 @@ pub(crate) enum Task {
         support: ClientSupport,
         /// The client accepts `workspace/codeLens/refresh`.
         code_lens_refresh: bool,
+        /// The `rulesBaseUri` initialization option, if given (see `rule_pages`).
+        rules_base: Option<String>,
     },
     /// Read the workspace from disk and analyse it, reporting progress.
     Index {
@@ -165,6 +167,8 @@ pub(crate) struct Snapshot {
     pub encoding: PositionEncoding,
     /// What the client supports.
     pub support: ClientSupport,
+    /// Where the rules' pages are (see `rule_pages`); `None`: no rule links.
+    pub rules_base: Option<Arc<str>>,
     paths: Arc<PathMap>,
     /// The URIs of the open documents by workspace path, so answers name them as the client
     /// does.
@@ -238,6 +242,11 @@ impl Snapshot {
     /// The last run of a test, if it ran since the files last changed.
     pub(crate) fn test_record(&self, key: &TestKey) -> Option<&TestRecord> {
         self.test_records.get(key)
+    }
+
+    /// The documentation page of a rule (`HG2105`), if rule links are on.
+    pub(crate) fn rule_page(&self, code: &str) -> Option<Uri> {
+        super::rule_pages::page(self.rules_base.as_deref()?, code)
     }
 
     /// The workspace root on disk (canonical), `None` when the client opened no folder.
@@ -345,6 +354,8 @@ struct World {
     code_lens_refresh: bool,
     /// The last semantic tokens sent per open document (see [`Snapshot`]).
     semantic_tokens: Arc<TokenCache>,
+    /// Where the rules' pages are (see `rule_pages`).
+    rules_base: Option<Arc<str>>,
 }
 
 impl World {
@@ -371,6 +382,7 @@ impl World {
             test_records: TestRecords::default(),
             code_lens_refresh: false,
             semantic_tokens: Arc::default(),
+            rules_base: None,
         }
     }
 
@@ -407,6 +419,7 @@ impl World {
                 root,
                 support,
                 code_lens_refresh,
+                rules_base,
             } => {
                 self.support = support;
                 self.code_lens_refresh = code_lens_refresh;
@@ -414,6 +427,10 @@ impl World {
                     Some(root) => path_map(&root),
                     None => PathMap::default(),
                 });
+                match super::rule_pages::base(rules_base.as_deref(), self.paths.root()) {
+                    Ok(base) => self.rules_base = base.map(Arc::from),
+                    Err(problem) => self.log(MessageType::WARNING, problem),
+                }
             }
             Task::Index { progress } => {
                 let _ = progress.send(IndexProgress::Report {
@@ -477,6 +494,7 @@ impl World {
             analysis: self.host.analysis(),
             encoding: self.support.encoding,
             support: self.support,
+            rules_base: self.rules_base.clone(),
             paths: self.paths.clone(),
             open_uris: self.open_uris.clone(),
             line_indexes: RefCell::new(line_indexes),

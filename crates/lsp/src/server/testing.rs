@@ -199,12 +199,17 @@ pub(crate) fn run_test(snapshot: &Snapshot, params: TestParams) -> HandlerResult
         .iter()
         .filter_map(|failure| {
             let index = snapshot.line_index(&failure.file)?;
-            let diagnostic = convert::diagnostic(
+            let mut diagnostic = convert::diagnostic(
                 &failure.diagnostic,
                 &index,
                 snapshot.encoding,
                 |file, range| location(snapshot, &files.get(file.0 as usize)?.path, range),
             );
+            if snapshot.support.code_description {
+                diagnostic.code_description = snapshot
+                    .rule_page(failure.diagnostic.code.as_str())
+                    .map(|href| lsp::CodeDescription { href });
+            }
             Some((failure.file.clone(), diagnostic))
         })
         .collect();
