@@ -14,5 +14,7 @@ mod features;
 mod lifecycle;
 #[path = "lsp/robustness.rs"]
 mod robustness;
+#[path = "lsp/signature_help.rs"]
+mod signature_help;
 #[path = "lsp/testing.rs"]
 mod testing;
