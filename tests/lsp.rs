@@ -18,5 +18,7 @@ mod lifecycle;
 mod links;
 #[path = "lsp/robustness.rs"]
 mod robustness;
+#[path = "lsp/signature_help.rs"]
+mod signature_help;
 #[path = "lsp/testing.rs"]
 mod testing;

@@ -1,4 +1,4 @@
-//! Edit-to-diagnostics and completion latency of the language server on `max-graph`, measured
+//! Edit-to-diagnostics, completion and signature help latency of the language server on `max-graph`, measured
 //! the way an editor sees it: over stdio, from writing a request to reading the answer.
 //!
 //! ```text
@@ -20,6 +20,10 @@
 //!    operand (the graph's variables are offered), sent right after the diagnostics arrived (the analysis is current, but queries only completion uses
 //!    run for the first time in this revision).
 //! 3. **completion, repeated**: the same request again (everything is cached).
+//! 4. **signature help after the edit**: a `signatureHelp` request just inside the parameter
+//!    list of the first `CALL … (` after the edited operation. `max-graph` declares no block
+//!    interfaces (its CALLs are unchecked), so the answer is `null`: the figure is the cost of
+//!    finding the context and looking the callee's interface up in the current revision.
 //!
 //! For comparison it then measures the analysis alone, in process, on the same edits: apply the
 //! edit to an `AnalysisHost` and compute all diagnostics; completion at the same position. The
@@ -95,6 +99,8 @@ struct Target {
     column: u32,
     /// The byte offset of the `N` in the file.
     offset: u32,
+    /// Line, column and byte offset just after the `(` of the first CALL after the `N`.
+    call: (u32, u32, u32),
 }
 
 fn find_target(text: &str) -> Result<Target, String> {
@@ -104,13 +110,19 @@ fn find_target(text: &str) -> Result<Target, String> {
         let trimmed = content.trim_start();
         // The last `UN` operation at or after 90 % of the file: the edit is late, so
         // anything the server does that is proportional to the text before it shows.
-        if trimmed.starts_with("UN ") && offset >= text.len() * 9 / 10 {
+        if found.is_none() && trimmed.starts_with("UN ") && offset >= text.len() * 9 / 10 {
             let column = content.len() - trimmed.len() + 1;
             found = Some(Target {
                 line: line as u32,
                 column: column as u32,
                 offset: (offset + column) as u32,
+                call: (0, 0, 0),
             });
+        } else if let Some(target) = found.as_mut()
+            && let Some(at) = content.find("CALL ").and_then(|c| content[c..].find('('))
+        {
+            let column = content.find("CALL ").unwrap_or(0) + at + 1;
+            target.call = (line as u32, column as u32, (offset + column) as u32);
             break;
         }
         offset += content.len() + 1;
@@ -118,7 +130,11 @@ fn find_target(text: &str) -> Result<Target, String> {
     if !text.is_ascii() {
         return Err("the workload is not ASCII: columns would need converting".into());
     }
-    found.ok_or_else(|| "no `UN` operation in the last tenth of the workload".into())
+    match found {
+        Some(target) if target.call != (0, 0, 0) => Ok(target),
+        Some(_) => Err("no `CALL … (` after the edited operation".into()),
+        None => Err("no `UN` operation in the last tenth of the workload".into()),
+    }
 }
 
 fn run(options: &Options) -> Result<(), String> {
@@ -161,6 +177,10 @@ fn run(options: &Options) -> Result<(), String> {
         &server.completion_after_edit,
     );
     row("  completion, repeated", &server.completion_repeated);
+    row(
+        "  signature help in a CALL after the edit",
+        &server.signature,
+    );
     println!("analysis alone, in process:");
     row("  apply_edits + all diagnostics", &analysis.edit);
     row(
@@ -168,6 +188,10 @@ fn run(options: &Options) -> Result<(), String> {
         &analysis.completion_after_edit,
     );
     row("  completion, repeated", &analysis.completion_repeated);
+    row(
+        "  signature help in a CALL after the edit",
+        &analysis.signature,
+    );
     Ok(())
 }
 
@@ -176,6 +200,7 @@ struct Samples {
     edit: Vec<Duration>,
     completion_after_edit: Vec<Duration>,
     completion_repeated: Vec<Duration>,
+    signature: Vec<Duration>,
 }
 
 /// The character of round `round`: odd rounds break the operation, even ones repair it.
@@ -258,7 +283,16 @@ fn over_stdio(
         let start = Instant::now();
         server.request("textDocument/completion", completion)?;
         let repeated = start.elapsed();
+        let (line, character, _) = target.call;
+        let signature = json!({
+            "textDocument": { "uri": uri },
+            "position": { "line": line, "character": character },
+        });
+        let start = Instant::now();
+        server.request("textDocument/signatureHelp", signature)?;
+        let signature = start.elapsed();
         if round >= WARM_UP {
+            samples.signature.push(signature);
             samples.edit.push(edit);
             samples.completion_after_edit.push(after_edit);
             samples.completion_repeated.push(repeated);
@@ -308,7 +342,15 @@ fn in_process(options: &Options, text: &str, target: &Target) -> Result<Samples,
         let start = Instant::now();
         let _ = host.analysis().completions(&position);
         let repeated = start.elapsed();
+        let call = FilePosition {
+            path: FILE.to_owned(),
+            offset: TextSize::from(target.call.2),
+        };
+        let start = Instant::now();
+        let _ = host.analysis().signature_help(&call);
+        let signature = start.elapsed();
         if round >= WARM_UP {
+            samples.signature.push(signature);
             samples.edit.push(elapsed);
             samples.completion_after_edit.push(after_edit);
             samples.completion_repeated.push(repeated);

@@ -955,7 +955,7 @@ struct BlockTarget {
 
 /// What a `block` item's reference names: a block address and/or a symbol name (as the CALL
 /// rules read it).
-fn interface_target(
+pub(crate) fn interface_target(
     index: &GlobalIndex,
     mnemonic: lang::Mnemonic,
     reference: &str,

@@ -12,6 +12,7 @@
 //! | `rename`          | prepare rename and workspace-wide rename |
 //! | `hover`           | hover text |
 //! | `completion`      | context-aware completion |
+//! | `signature_help`  | formals of an instance's graph, a CALL's block interface, a qualifier |
 //! | `inlay_hints`     | state names after `trans a->b`, formal types after actuals |
 //! | `symbols`         | document symbols (hierarchical) and workspace symbols |
 //! | `semantic_tokens` | semantic highlighting |
@@ -38,6 +39,7 @@ mod references;
 pub(crate) mod relayout;
 pub(crate) mod rename;
 mod semantic_tokens;
+mod signature_help;
 mod symbols;
 
 pub use code_actions::CodeAction;
@@ -48,6 +50,7 @@ pub use highlights::HighlightKind;
 pub use hover::Hover;
 pub use inlay_hints::{InlayHint, InlayKind};
 pub use semantic_tokens::{SemanticToken, TOKEN_KINDS, TOKEN_MODIFIERS, TokenKind, TokenModifier};
+pub use signature_help::{SignatureHelp, SignatureKind, SignatureParameter};
 pub use symbols::DocumentSymbol;
 
 /// A position in a workspace file.

@@ -125,6 +125,13 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
             trigger_characters: Some(vec![".".into(), "#".into()]),
             ..lsp::CompletionOptions::default()
         }),
+        // `(` opens a CALL's parameter list, `,` the next parameter or a qualifier's time,
+        // `<` an instance block, `;` ends an actual; the space after a chart qualifier.
+        signature_help_provider: Some(lsp::SignatureHelpOptions {
+            trigger_characters: Some(["(", ",", "<", ";", " "].map(String::from).to_vec()),
+            retrigger_characters: Some([")", ">", "="].map(String::from).to_vec()),
+            work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
+        }),
         definition_provider: Some(lsp::OneOf::Left(true)),
         references_provider: Some(lsp::OneOf::Left(true)),
         document_highlight_provider: Some(lsp::OneOf::Left(true)),

@@ -116,6 +116,66 @@ pub(crate) fn hover(
     Ok(hover.map(|hover| convert::hover(&hover, &index, snapshot.encoding, markdown)))
 }
 
+/// `textDocument/signatureHelp`: one signature (instance formals, a CALL's block interface or
+/// a chart qualifier). Parameter labels are offsets into the signature's label in the
+/// negotiated encoding; with no active parameter the index lies past the last parameter, so
+/// clients highlight none.
+pub(crate) fn signature_help(
+    snapshot: &Snapshot,
+    params: lsp::SignatureHelpParams,
+) -> HandlerResult<Option<lsp::SignatureHelp>> {
+    let Some((position, _)) = file_position(snapshot, &params.text_document_position_params) else {
+        return Ok(None);
+    };
+    let Some(help) = snapshot.analysis.signature_help(&position)? else {
+        return Ok(None);
+    };
+    let encoding = snapshot.encoding;
+    let units = |end: higraph_analysis::TextSize| -> u32 {
+        let text = help.label.get(..usize::from(end)).unwrap_or("");
+        let count = match encoding {
+            higraph_analysis::PositionEncoding::Utf8 => text.len(),
+            higraph_analysis::PositionEncoding::Utf16 => text.encode_utf16().count(),
+            higraph_analysis::PositionEncoding::Utf32 => text.chars().count(),
+        };
+        u32::try_from(count).unwrap_or(u32::MAX)
+    };
+    let documentation = |text: &str| {
+        let kind = if snapshot.support.hover_markdown {
+            lsp::MarkupKind::Markdown
+        } else {
+            lsp::MarkupKind::PlainText
+        };
+        lsp::Documentation::MarkupContent(lsp::MarkupContent {
+            kind,
+            value: text.to_owned(),
+        })
+    };
+    let parameters: Vec<lsp::ParameterInformation> = help
+        .parameters
+        .iter()
+        .map(|p| lsp::ParameterInformation {
+            label: lsp::ParameterLabel::LabelOffsets([
+                units(p.range.start()),
+                units(p.range.end()),
+            ]),
+            documentation: p.documentation.as_deref().map(documentation),
+        })
+        .collect();
+    let count = u32::try_from(parameters.len()).unwrap_or(u32::MAX);
+    let active = help.active_parameter.unwrap_or(count);
+    Ok(Some(lsp::SignatureHelp {
+        signatures: vec![lsp::SignatureInformation {
+            label: help.label.clone(),
+            documentation: help.documentation.as_deref().map(documentation),
+            parameters: Some(parameters),
+            active_parameter: Some(active),
+        }],
+        active_signature: Some(0),
+        active_parameter: Some(active),
+    }))
+}
+
 /// `textDocument/definition`.
 pub(crate) fn goto_definition(
     snapshot: &Snapshot,

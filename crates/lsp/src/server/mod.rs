@@ -479,6 +479,14 @@ impl LanguageServer for Backend {
             .await
     }
 
+    async fn signature_help(
+        &self,
+        params: lsp::SignatureHelpParams,
+    ) -> jsonrpc::Result<Option<lsp::SignatureHelp>> {
+        self.answer("signatureHelp", params, handlers::signature_help)
+            .await
+    }
+
     async fn goto_definition(
         &self,
         params: lsp::GotoDefinitionParams,
