@@ -180,5 +180,14 @@ fn drilling_machine_call_hierarchy_and_message_flow() {
         )
         .expect("prepareCallHierarchy answers");
     assert!(none.is_null(), "{none}");
+
+    // An item the workspace does not know (a stale or made-up one) has no calls.
+    let mut stale = im_oben.clone();
+    stale["data"] = json!({"path": "gone.higraph", "offset": 99_999});
+    for direction in ["incoming", "outgoing"] {
+        assert!(calls(&mut server, &stale, direction).is_empty());
+    }
+    stale["data"] = json!({"path": "graphs/bohren.higraph", "offset": 99_999});
+    assert!(calls(&mut server, &stale, "incoming").is_empty());
     assert_eq!(server.shutdown_and_exit(), 0);
 }

@@ -16,6 +16,8 @@
 //! Ranges of a call are in the caller's file (incoming) or in the item's own file (outgoing), as
 //! LSP wants them. External messages (wired to a symbol or an address) have no call.
 
+use std::collections::{HashMap, HashSet};
+
 use higraph_syntax::{
     TextRange, TextSize,
     ast::{self, AstNode},
@@ -284,9 +286,14 @@ fn call_item(db: &dyn salsa::Database, ws: Workspace, definition: &Definition) -
     })
 }
 
-/// Calls collected in order, one per item, with their ranges.
+/// Calls collected in order, one per item (found by its file and name position), with their
+/// ranges.
 #[derive(Default)]
-struct Calls(Vec<Call>);
+struct Calls(
+    Vec<Call>,
+    HashMap<(String, TextSize), usize>,
+    HashSet<(usize, TextRange)>,
+);
 
 impl Calls {
     fn add(&mut self, db: &dyn salsa::Database, ws: Workspace, to: &Definition, range: TextRange) {
@@ -303,18 +310,16 @@ impl Calls {
         let Some(item) = call_item(db, ws, to) else {
             return;
         };
-        let at = match self.0.iter().position(|c| c.item == item) {
-            Some(at) => at,
-            None => {
-                self.0.push(Call {
-                    item,
-                    ranges: Vec::new(),
-                });
-                self.0.len() - 1
-            }
-        };
+        let key = (item.path.clone(), item.focus_range.start());
+        let at = *self.1.entry(key).or_insert_with(|| {
+            self.0.push(Call {
+                item,
+                ranges: Vec::new(),
+            });
+            self.0.len() - 1
+        });
         for range in ranges {
-            if !self.0[at].ranges.contains(range) {
+            if self.2.insert((at, *range)) {
                 self.0[at].ranges.push(*range);
             }
         }
@@ -611,6 +616,41 @@ group Bohrmaschine fc FC 1 db DB 1 <
         insta::assert_snapshot!(check(&at("group.higraph", "IM_Ab", 0)), @"
         Message IM_Ab (Ventil msg in) in graphs/ventil.higraph 'IM_Ab'
         in: Instance Bohren (Bohrmaschine : Bohren) at Vorschub.IM_Ab
+        ");
+    }
+
+    /// A second group: Ventil's report goes to a symbol (external) in one instance and to
+    /// Bohren in the other; the first group's wires count too.
+    const TWO_GROUPS: &str = r#"//- group2.higraph
+group Zweite fc FC 2 db DB 2 <
+  instance B : Bohren < >
+  instance Extern : Ventil < OM_Oben := Meldung; >
+  instance Intern : Ventil < OM_Oben := B.IM_Oben; >
+>
+"#;
+
+    fn with_second_group(path: &str, needle: &str) -> String {
+        format!("{}{TWO_GROUPS}", at(path, needle, 0))
+    }
+
+    #[test]
+    fn across_groups_without_external_messages() {
+        insta::assert_snapshot!(check(&with_second_group("graphs/bohren.higraph", "IM_Oben")), @"
+        Message IM_Oben (Bohren msg in) in graphs/bohren.higraph 'IM_Oben'
+        in: Instance Vorschub (Bohrmaschine : Ventil) at Bohren.IM_Oben
+        in: Instance Vorschub2 (Bohrmaschine : Ventil) at Bohren.IM_Oben
+        in: Instance Intern (Zweite : Ventil) at B.IM_Oben
+        ");
+        insta::assert_snapshot!(check(&with_second_group("graphs/ventil.higraph", "OM_Oben")), @"
+        Message OM_Oben (Ventil msg out) in graphs/ventil.higraph 'OM_Oben'
+        out: Message IM_Oben (Bohren msg in) at OM_Oben
+        ");
+        insta::assert_snapshot!(check(&with_second_group("graphs/ventil.higraph", "Ventil")), @"
+        Graph Ventil (graph) in graphs/ventil.higraph 'Ventil'
+        in: Instance Vorschub (Bohrmaschine : Ventil) at Ventil
+        in: Instance Vorschub2 (Bohrmaschine : Ventil) at Ventil
+        in: Instance Extern (Zweite : Ventil) at Ventil
+        in: Instance Intern (Zweite : Ventil) at Ventil
         ");
     }
 
