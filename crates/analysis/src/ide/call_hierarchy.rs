@@ -83,7 +83,7 @@ impl Analysis {
                 return Vec::new();
             };
             let mut calls = Calls::default();
-            let flows = flows(db, ws);
+            let flows = flows(db, ws, &definition);
             match &definition {
                 Definition::Group(_) => {}
                 Definition::Instance { group, name } => {
@@ -94,8 +94,10 @@ impl Analysis {
                         let range = flow.instances[this].name_range + flow.start;
                         calls.add(db, ws, &Definition::Group(flow.group), range);
                         for wire in flow.wires.iter().filter(|w| w.receiver == this) {
-                            let sender = flow.instance_definition(wire.sender);
-                            calls.add(db, ws, &sender, wire.target_range + flow.start);
+                            calls.add_item(
+                                flow.instance_item(db, wire.sender),
+                                &[wire.target_range + flow.start],
+                            );
                         }
                     }
                 }
@@ -105,8 +107,7 @@ impl Analysis {
                             if let (Some(g), Some(range)) = (inst.graph, inst.graph_range)
                                 && g == *graph
                             {
-                                let caller = flow.instance_definition(i);
-                                calls.add(db, ws, &caller, range + flow.start);
+                                calls.add_item(flow.instance_item(db, i), &[range + flow.start]);
                             }
                         }
                     }
@@ -121,8 +122,10 @@ impl Analysis {
                                     .as_deref()
                                     .is_some_and(|m| m.eq_ignore_ascii_case(name))
                             {
-                                let sender = flow.instance_definition(wire.sender);
-                                calls.add(db, ws, &sender, wire.target_range + flow.start);
+                                calls.add_item(
+                                    flow.instance_item(db, wire.sender),
+                                    &[wire.target_range + flow.start],
+                                );
                             }
                         }
                     }
@@ -145,13 +148,15 @@ impl Analysis {
                 return Vec::new();
             };
             let mut calls = Calls::default();
-            let flows = flows(db, ws);
+            let flows = flows(db, ws, &definition);
             match &definition {
                 Definition::Group(group) => {
                     for flow in flows.iter().filter(|f| f.group == *group) {
                         for (i, inst) in flow.instances.iter().enumerate() {
-                            let callee = flow.instance_definition(i);
-                            calls.add(db, ws, &callee, inst.name_range + flow.start);
+                            calls.add_item(
+                                flow.instance_item(db, i),
+                                &[inst.name_range + flow.start],
+                            );
                         }
                     }
                 }
@@ -165,8 +170,10 @@ impl Analysis {
                             calls.add(db, ws, &Definition::Graph(graph), range + flow.start);
                         }
                         for wire in flow.wires.iter().filter(|w| w.sender == this) {
-                            let receiver = flow.instance_definition(wire.receiver);
-                            calls.add(db, ws, &receiver, wire.target_range + flow.start);
+                            calls.add_item(
+                                flow.instance_item(db, wire.receiver),
+                                &[wire.target_range + flow.start],
+                            );
                         }
                     }
                 }
@@ -307,9 +314,12 @@ impl Calls {
         to: &Definition,
         ranges: &[TextRange],
     ) {
-        let Some(item) = call_item(db, ws, to) else {
-            return;
-        };
+        if let Some(item) = call_item(db, ws, to) {
+            self.add_item(item, ranges);
+        }
+    }
+
+    fn add_item(&mut self, item: CallItem, ranges: &[TextRange]) {
         let key = (item.path.clone(), item.focus_range.start());
         let at = *self.1.entry(key).or_insert_with(|| {
             self.0.push(Call {
@@ -334,6 +344,8 @@ struct Instance {
     name: String,
     name_range: TextRange,
     full_range: TextRange,
+    /// The graph as written.
+    graph_name: String,
     /// The graph, as the use index resolved `instance X : G`.
     graph: Option<ItemId>,
     graph_range: Option<TextRange>,
@@ -354,6 +366,8 @@ struct Wire {
 /// The instances and internal messages of one group.
 struct Flow {
     group: ItemId,
+    /// The group's name.
+    name: String,
     start: TextSize,
     instances: Vec<Instance>,
     wires: Vec<Wire>,
@@ -366,17 +380,28 @@ impl Flow {
             .position(|i| i.name.eq_ignore_ascii_case(name))
     }
 
-    fn instance_definition(&self, index: usize) -> Definition {
-        Definition::Instance {
-            group: self.group,
-            name: self.instances[index].name.clone(),
+    /// The call hierarchy item of an instance, without looking for its declaration again.
+    fn instance_item(&self, db: &dyn salsa::Database, index: usize) -> CallItem {
+        let inst = &self.instances[index];
+        CallItem {
+            name: inst.name.clone(),
+            kind: SymbolKind::Instance,
+            detail: format!("{} : {}", self.name, inst.graph_name),
+            path: self.group.file.path(db).clone(),
+            full_range: inst.full_range + self.start,
+            focus_range: inst.name_range + self.start,
         }
     }
 }
 
-/// The flows of every group of the workspace, in workspace order.
-fn flows(db: &dyn salsa::Database, ws: Workspace) -> Vec<Flow> {
-    defs::items_of_kind(db, ws, &[ItemKind::Group])
+/// The flows the calls of `definition` need: its group's for a group or an instance, else
+/// those of every group of the workspace, in workspace order.
+fn flows(db: &dyn salsa::Database, ws: Workspace, definition: &Definition) -> Vec<Flow> {
+    let groups = match definition {
+        Definition::Group(group) | Definition::Instance { group, .. } => vec![*group],
+        _ => defs::items_of_kind(db, ws, &[ItemKind::Group]),
+    };
+    groups
         .into_iter()
         .filter_map(|group| flow(db, ws, group))
         .collect()
@@ -407,6 +432,7 @@ fn flow(db: &dyn salsa::Database, ws: Workspace, group: ItemId) -> Option<Flow> 
             blocks.push((i, node));
             continue;
         }
+        let graph_name = node.graph().map(|g| g.text()).unwrap_or_default();
         let graph_ref = node.graph().and_then(|g| g.token());
         let graph_range = graph_ref.as_ref().map(|t| t.text_range());
         let graph = graph_range.and_then(|r| match use_at(r) {
@@ -415,6 +441,7 @@ fn flow(db: &dyn salsa::Database, ws: Workspace, group: ItemId) -> Option<Flow> 
         });
         instances.push(Instance {
             name: text,
+            graph_name,
             name_range: name.syntax().text_range(),
             full_range: node.syntax().text_range(),
             graph,
@@ -462,6 +489,7 @@ fn flow(db: &dyn salsa::Database, ws: Workspace, group: ItemId) -> Option<Flow> 
     }
     Some(Flow {
         group,
+        name: root.name().map(|n| n.text()).unwrap_or_default(),
         start: defs::item_start(db, group),
         instances,
         wires,
