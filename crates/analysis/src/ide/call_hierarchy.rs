@@ -14,7 +14,9 @@
 //! ([`defs::item_uses`], which the group rules' actual resolution fills). An item is identified
 //! again by the position of its name ([`CallItem::focus_range`]), so a client can hand it back.
 //! Ranges of a call are in the caller's file (incoming) or in the item's own file (outgoing), as
-//! LSP wants them. External messages (wired to a symbol or an address) have no call.
+//! LSP wants them. External messages (wired to a symbol or an address) have no call. A
+//! group's instances and wires are a salsa query per group ([`group_flow`]), so an edit elsewhere
+//! leaves them cached.
 
 use std::collections::{HashMap, HashSet};
 
@@ -340,6 +342,7 @@ impl Calls {
 
 /// An instance of a group (the first of each name, as the rules count them). Ranges are
 /// relative to the group item.
+#[derive(Debug, Clone, PartialEq, Eq)]
 struct Instance {
     name: String,
     name_range: TextRange,
@@ -352,6 +355,7 @@ struct Instance {
 }
 
 /// An internal message: `formal := Receiver.message` in the sender's block.
+#[derive(Debug, Clone, PartialEq, Eq)]
 struct Wire {
     sender: usize,
     /// The sender's formal as declared in its graph.
@@ -364,6 +368,7 @@ struct Wire {
 }
 
 /// The instances and internal messages of one group.
+#[derive(Debug, Clone, PartialEq, Eq)]
 struct Flow {
     group: ItemId,
     /// The group's name.
@@ -396,15 +401,33 @@ impl Flow {
 
 /// The flows the calls of `definition` need: its group's for a group or an instance, else
 /// those of every group of the workspace, in workspace order.
-fn flows(db: &dyn salsa::Database, ws: Workspace, definition: &Definition) -> Vec<Flow> {
+fn flows<'db>(
+    db: &'db dyn salsa::Database,
+    ws: Workspace,
+    definition: &Definition,
+) -> Vec<&'db Flow> {
     let groups = match definition {
         Definition::Group(group) | Definition::Instance { group, .. } => vec![*group],
         _ => defs::items_of_kind(db, ws, &[ItemKind::Group]),
     };
     groups
         .into_iter()
-        .filter_map(|group| flow(db, ws, group))
+        .filter_map(|group| group_flow(db, ws, defs::item_loc(db, group)).as_ref())
         .collect()
+}
+
+/// The flow of a group item, cached: an edit elsewhere leaves it as it is.
+#[salsa::tracked(returns(ref))]
+fn group_flow<'db>(
+    db: &'db dyn salsa::Database,
+    ws: Workspace,
+    item: crate::db::ItemLoc<'db>,
+) -> Option<Flow> {
+    let group = ItemId {
+        file: item.file(db),
+        index: item.index(db),
+    };
+    flow(db, ws, group)
 }
 
 /// The instances and wires of a group, read from its syntax and its use index.
