@@ -6,6 +6,8 @@ mod client;
 
 #[path = "lsp/build.rs"]
 mod build;
+#[path = "lsp/calls.rs"]
+mod calls;
 #[path = "lsp/diagnostics.rs"]
 mod diagnostics;
 #[path = "lsp/features.rs"]

@@ -54,6 +54,7 @@ const POSITION_METHODS: &[&str] = &[
     "textDocument/documentHighlight",
     "textDocument/prepareRename",
     "textDocument/rename",
+    "textDocument/prepareCallHierarchy",
 ];
 
 const DOCUMENT_METHODS: &[&str] = &[

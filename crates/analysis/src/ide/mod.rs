@@ -20,9 +20,11 @@
 //! | `code_actions`    | quick fixes from diagnostics; formatting edits |
 //! | `range_format`    | range formatting: the canonical layout of the items a range touches |
 //! | `document_links`  | symbol-table paths in `higraph.toml`, codes in `higraph-allow` comments |
+//! | `call_hierarchy`  | group → instances → graphs, and message flow between instances |
 
 use higraph_syntax::{TextRange, TextSize};
 
+mod call_hierarchy;
 mod code_actions;
 mod completion;
 pub mod defs;
@@ -42,6 +44,7 @@ mod semantic_tokens;
 mod signature_help;
 mod symbols;
 
+pub use call_hierarchy::{Call, CallItem};
 pub use code_actions::CodeAction;
 pub use completion::{CompletionItem, CompletionKind};
 pub use document_links::{DocumentLink, LinkTarget};

@@ -167,6 +167,8 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
             resolve_provider: Some(false),
             work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
         }),
+        // Group → instances → graphs, and the message flow between instances.
+        call_hierarchy_provider: Some(lsp::CallHierarchyServerCapability::Simple(true)),
         ..lsp::ServerCapabilities::default()
     }
 }

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use higraph_analysis::ide::{FilePosition, LinkTarget, SourceChange};
+use higraph_analysis::ide::{CallItem, FilePosition, LinkTarget, SourceChange};
 use higraph_analysis::{LineIndex, TextRange};
 use tower_lsp_server::ls_types as lsp;
 
@@ -591,4 +591,113 @@ pub(crate) fn render(snapshot: &Snapshot, params: RenderParams) -> HandlerResult
         Ok(svg) => Ok(RenderResult { svg }),
         Err(message) => Err(HandlerError::Failed(message)),
     }
+}
+
+// ------------------------------------------------------------------------------ call hierarchy
+
+/// The LSP item of a call hierarchy item; `data` holds its workspace path and the byte offset
+/// of its name, which identify it again.
+fn call_item(snapshot: &Snapshot, item: &CallItem) -> Option<lsp::CallHierarchyItem> {
+    let index = snapshot.line_index(&item.path)?;
+    Some(lsp::CallHierarchyItem {
+        name: item.name.clone(),
+        kind: convert::symbol_kind(item.kind),
+        tags: None,
+        detail: (!item.detail.is_empty()).then(|| item.detail.clone()),
+        uri: snapshot.uri(&item.path)?,
+        range: convert::range(&index, item.full_range, snapshot.encoding),
+        selection_range: convert::range(&index, item.focus_range, snapshot.encoding),
+        data: Some(serde_json::json!({
+            "path": item.path,
+            "offset": u32::from(item.focus_range.start()),
+        })),
+    })
+}
+
+/// The position that identifies a call hierarchy item: its `data`, else the start of its
+/// selection range.
+fn call_item_position(snapshot: &Snapshot, item: &lsp::CallHierarchyItem) -> Option<FilePosition> {
+    let from_data = item.data.as_ref().and_then(|data| {
+        let path = data.get("path")?.as_str()?.to_owned();
+        let offset = u32::try_from(data.get("offset")?.as_u64()?).ok()?;
+        Some(FilePosition {
+            path,
+            offset: offset.into(),
+        })
+    });
+    from_data.or_else(|| {
+        let path = snapshot.path(&item.uri)?;
+        let index = snapshot.line_index(&path)?;
+        let offset = convert::offset(&index, item.selection_range.start, snapshot.encoding);
+        Some(FilePosition { path, offset })
+    })
+}
+
+/// The ranges of a call in `path`.
+fn call_ranges(snapshot: &Snapshot, path: &str, ranges: &[TextRange]) -> Vec<lsp::Range> {
+    let Some(index) = snapshot.line_index(path) else {
+        return Vec::new();
+    };
+    ranges
+        .iter()
+        .map(|r| convert::range(&index, *r, snapshot.encoding))
+        .collect()
+}
+
+/// `textDocument/prepareCallHierarchy`: a group, instance, graph or message variable.
+pub(crate) fn prepare_call_hierarchy(
+    snapshot: &Snapshot,
+    params: lsp::CallHierarchyPrepareParams,
+) -> HandlerResult<Option<Vec<lsp::CallHierarchyItem>>> {
+    let Some((position, _)) = file_position(snapshot, &params.text_document_position_params) else {
+        return Ok(None);
+    };
+    let item = snapshot.analysis.prepare_call_hierarchy(&position)?;
+    Ok(item
+        .and_then(|item| call_item(snapshot, &item))
+        .map(|item| vec![item]))
+}
+
+/// `callHierarchy/incomingCalls`: the ranges are in the caller's file.
+pub(crate) fn incoming_calls(
+    snapshot: &Snapshot,
+    params: lsp::CallHierarchyIncomingCallsParams,
+) -> HandlerResult<Option<Vec<lsp::CallHierarchyIncomingCall>>> {
+    let Some(position) = call_item_position(snapshot, &params.item) else {
+        return Ok(None);
+    };
+    let calls = snapshot.analysis.incoming_calls(&position)?;
+    Ok(Some(
+        calls
+            .iter()
+            .filter_map(|call| {
+                Some(lsp::CallHierarchyIncomingCall {
+                    from: call_item(snapshot, &call.item)?,
+                    from_ranges: call_ranges(snapshot, &call.item.path, &call.ranges),
+                })
+            })
+            .collect(),
+    ))
+}
+
+/// `callHierarchy/outgoingCalls`: the ranges are in the item's own file.
+pub(crate) fn outgoing_calls(
+    snapshot: &Snapshot,
+    params: lsp::CallHierarchyOutgoingCallsParams,
+) -> HandlerResult<Option<Vec<lsp::CallHierarchyOutgoingCall>>> {
+    let Some(position) = call_item_position(snapshot, &params.item) else {
+        return Ok(None);
+    };
+    let calls = snapshot.analysis.outgoing_calls(&position)?;
+    Ok(Some(
+        calls
+            .iter()
+            .filter_map(|call| {
+                Some(lsp::CallHierarchyOutgoingCall {
+                    to: call_item(snapshot, &call.item)?,
+                    from_ranges: call_ranges(snapshot, &position.path, &call.ranges),
+                })
+            })
+            .collect(),
+    ))
 }

@@ -558,6 +558,42 @@ impl LanguageServer for Backend {
             .await
     }
 
+    async fn prepare_call_hierarchy(
+        &self,
+        params: lsp::CallHierarchyPrepareParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::CallHierarchyItem>>> {
+        self.answer(
+            "prepareCallHierarchy",
+            params,
+            handlers::prepare_call_hierarchy,
+        )
+        .await
+    }
+
+    async fn incoming_calls(
+        &self,
+        params: lsp::CallHierarchyIncomingCallsParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::CallHierarchyIncomingCall>>> {
+        self.answer(
+            "callHierarchy/incomingCalls",
+            params,
+            handlers::incoming_calls,
+        )
+        .await
+    }
+
+    async fn outgoing_calls(
+        &self,
+        params: lsp::CallHierarchyOutgoingCallsParams,
+    ) -> jsonrpc::Result<Option<Vec<lsp::CallHierarchyOutgoingCall>>> {
+        self.answer(
+            "callHierarchy/outgoingCalls",
+            params,
+            handlers::outgoing_calls,
+        )
+        .await
+    }
+
     async fn selection_range(
         &self,
         params: lsp::SelectionRangeParams,
