@@ -121,10 +121,16 @@ mod tests {
             message: "two".into(),
             ..lsp::Diagnostic::default()
         };
-        assert_eq!(result_id(&[one.clone()]), result_id(&[one.clone()]));
-        assert_ne!(result_id(&[one.clone()]), result_id(&[two.clone()]));
-        assert_ne!(result_id(&[]), result_id(&[one.clone()]));
-        let id = result_id(&[one.clone()]);
+        assert_eq!(
+            result_id(std::slice::from_ref(&one)),
+            result_id(std::slice::from_ref(&one))
+        );
+        assert_ne!(
+            result_id(std::slice::from_ref(&one)),
+            result_id(std::slice::from_ref(&two))
+        );
+        assert_ne!(result_id(&[]), result_id(std::slice::from_ref(&one)));
+        let id = result_id(std::slice::from_ref(&one));
         let unchanged = document_report(Some(&id), id.clone(), Vec::new);
         assert!(matches!(
             unchanged,
