@@ -18,6 +18,8 @@ mod format_tokens;
 mod lifecycle;
 #[path = "lsp/links.rs"]
 mod links;
+#[path = "lsp/pull.rs"]
+mod pull;
 #[path = "lsp/robustness.rs"]
 mod robustness;
 #[path = "lsp/signature_help.rs"]

@@ -34,7 +34,7 @@ fn range(value: &Value) -> [u64; 4] {
 }
 
 /// The diagnostics of `check --format json`.
-fn from_check(report: &Value) -> BTreeSet<Comparable> {
+pub(crate) fn from_check(report: &Value) -> BTreeSet<Comparable> {
     report["diagnostics"]
         .as_array()
         .expect("diagnostics")
@@ -68,10 +68,18 @@ fn from_check(report: &Value) -> BTreeSet<Comparable> {
 
 /// The diagnostics the server published last for each file.
 fn from_server(server: &Server, tree: &TempTree) -> BTreeSet<Comparable> {
+    from_map(&server.diagnostics, tree)
+}
+
+/// The diagnostics of each file by URI (published or pulled), comparable with `check`'s.
+pub(crate) fn from_map(
+    files: &std::collections::HashMap<String, Vec<Value>>,
+    tree: &TempTree,
+) -> BTreeSet<Comparable> {
     let prefix = format!("{}/", file_uri(&tree.path()));
     let file = |uri: &str| uri.strip_prefix(&prefix).unwrap_or(uri).to_owned();
     let mut all = BTreeSet::new();
-    for (uri, diagnostics) in &server.diagnostics {
+    for (uri, diagnostics) in files {
         for d in diagnostics {
             assert_eq!(d["source"], "higraph", "{d}");
             let severity = match d["severity"].as_u64() {
@@ -126,7 +134,7 @@ fn assert_same(server: &Server, tree: &TempTree) {
 
 /// The `mistakes` example plus a symbol table with bad lines, an unused variable, a name
 /// defined in two files (related information in another file) and a configuration problem.
-fn rich_workspace() -> TempTree {
+pub(crate) fn rich_workspace() -> TempTree {
     let tree = TempTree::new();
     let mistakes = repo_root().join("examples/mistakes");
     for entry in std::fs::read_dir(&mistakes).expect("the mistakes example") {

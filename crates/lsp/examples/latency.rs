@@ -25,6 +25,13 @@
 //!    interfaces (its CALLs are unchecked), so the answer is `null`: the figure is the cost of
 //!    finding the context and looking the callee's interface up in the current revision.
 //!
+//! Then, with a second server started as a client that pulls diagnostics (LSP 3.17
+//! `textDocument.diagnostic`, so nothing is pushed), the same edits:
+//!
+//! 5. **edit → pulled diagnostics**: the `didChange` followed at once by a
+//!    `textDocument/diagnostic` with the previous result id; the time runs from writing the
+//!    notification to reading the (full) report, whose content is checked.
+//!
 //! For comparison it then measures the analysis alone, in process, on the same edits: apply the
 //! edit to an `AnalysisHost` and compute all diagnostics; completion at the same position. The
 //! difference between the two is what the server adds (JSON-RPC, conversion, threads).
@@ -157,6 +164,7 @@ fn run(options: &Options) -> Result<(), String> {
     );
 
     let server = over_stdio(options, &root, &path, &text, &target)?;
+    let pulled = pull_over_stdio(options, &root, &path, &text, &target)?;
     let analysis = in_process(options, &text, &target)?;
 
     println!();
@@ -181,6 +189,7 @@ fn run(options: &Options) -> Result<(), String> {
         "  signature help in a CALL after the edit",
         &server.signature,
     );
+    row("  edit -> textDocument/diagnostic (pull)", &pulled);
     println!("analysis alone, in process:");
     row("  apply_edits + all diagnostics", &analysis.edit);
     row(
@@ -296,6 +305,87 @@ fn over_stdio(
             samples.edit.push(edit);
             samples.completion_after_edit.push(after_edit);
             samples.completion_repeated.push(repeated);
+        }
+    }
+    server.request("shutdown", Value::Null)?;
+    server.notify("exit", Value::Null)?;
+    server.finish();
+    Ok(samples)
+}
+
+/// Edit → pulled diagnostics, with a server started as a client that pulls.
+fn pull_over_stdio(
+    options: &Options,
+    root: &std::path::Path,
+    path: &std::path::Path,
+    text: &str,
+    target: &Target,
+) -> Result<Vec<Duration>, String> {
+    let mut server = Server::start(&options.server)?;
+    let uri = file_uri(path);
+    server.request(
+        "initialize",
+        json!({
+            "processId": null,
+            "rootUri": file_uri(root),
+            "capabilities": {
+                "window": { "workDoneProgress": true },
+                "textDocument": { "diagnostic": {} },
+            },
+        }),
+    )?;
+    server.notify("initialized", json!({}))?;
+    server.notify(
+        "textDocument/didOpen",
+        json!({ "textDocument": {
+            "uri": uri, "languageId": "higraph", "version": 1, "text": text,
+        }}),
+    )?;
+    server.wait_for(|message| {
+        message["method"] == "$/progress" && message["params"]["value"]["kind"] == "end"
+    })?;
+    let first = server.request(
+        "textDocument/diagnostic",
+        json!({ "textDocument": { "uri": uri } }),
+    )?;
+    let mut previous = first["resultId"].clone();
+    let mut samples = Vec::new();
+    for round in 0..WARM_UP + options.iterations {
+        let broken = replacement(round) == "X";
+        let start = Instant::now();
+        server.notify(
+            "textDocument/didChange",
+            json!({
+                "textDocument": { "uri": uri, "version": round + 2 },
+                "contentChanges": [{
+                    "range": {
+                        "start": { "line": target.line, "character": target.column },
+                        "end": { "line": target.line, "character": target.column + 1 },
+                    },
+                    "text": replacement(round),
+                }],
+            }),
+        )?;
+        let report = server.request(
+            "textDocument/diagnostic",
+            json!({ "textDocument": { "uri": uri }, "previousResultId": previous }),
+        )?;
+        let elapsed = start.elapsed();
+        if report["kind"] != "full" {
+            return Err(format!(
+                "round {round}: the pull was not a full report: {report}"
+            ));
+        }
+        let count = report["items"].as_array().map_or(0, Vec::len);
+        if broken != (count > 0) {
+            return Err(format!(
+                "round {round}: pulled {count} diagnostics, expected {}",
+                if broken { "some" } else { "none" }
+            ));
+        }
+        previous = report["resultId"].clone();
+        if round >= WARM_UP {
+            samples.push(elapsed);
         }
     }
     server.request("shutdown", Value::Null)?;

@@ -27,6 +27,11 @@ pub(crate) struct ClientSupport {
     pub hover_markdown: bool,
     /// The client shows `codeDescription.href` of a diagnostic (a link to the rule's page).
     pub code_description: bool,
+    /// The client pulls diagnostics (`textDocument.diagnostic`): nothing is pushed to it
+    /// (see `pull`).
+    pub pull_diagnostics: bool,
+    /// The client accepts `workspace/diagnostic/refresh`.
+    pub diagnostic_refresh: bool,
 }
 
 impl Default for ClientSupport {
@@ -40,6 +45,8 @@ impl Default for ClientSupport {
             line_folding_only: false,
             hover_markdown: true,
             code_description: false,
+            pull_diagnostics: false,
+            diagnostic_refresh: false,
         }
     }
 }
@@ -88,6 +95,13 @@ impl ClientSupport {
             code_description: text_document
                 .and_then(|text| text.publish_diagnostics.as_ref())
                 .and_then(|publish| publish.code_description_support)
+                .unwrap_or(false),
+            pull_diagnostics: text_document.is_some_and(|text| text.diagnostic.is_some()),
+            diagnostic_refresh: capabilities
+                .workspace
+                .as_ref()
+                .and_then(|workspace| workspace.diagnostics.as_ref())
+                .and_then(|diagnostic| diagnostic.refresh_support)
                 .unwrap_or(false),
         }
     }
@@ -169,6 +183,15 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
         }),
         // Group → instances → graphs, and the message flow between instances.
         call_hierarchy_provider: Some(lsp::CallHierarchyServerCapability::Simple(true)),
+        // Pull diagnostics, for clients that announce them (see `pull`).
+        diagnostic_provider: Some(lsp::DiagnosticServerCapabilities::Options(
+            lsp::DiagnosticOptions {
+                identifier: Some(super::pull::IDENTIFIER.to_owned()),
+                inter_file_dependencies: true,
+                workspace_diagnostics: true,
+                work_done_progress_options: lsp::WorkDoneProgressOptions::default(),
+            },
+        )),
         ..lsp::ServerCapabilities::default()
     }
 }

@@ -16,6 +16,7 @@ mod capabilities;
 mod convert;
 mod diagnostics;
 mod handlers;
+mod pull;
 mod rule_pages;
 mod state;
 mod testing;
@@ -112,6 +113,13 @@ async fn talk_to_client(client: Client, mut outbox: mpsc::UnboundedReceiver<ToCl
             ToClient::Log { kind, message } => client.log_message(kind, message).await,
             ToClient::Barrier(done) => {
                 let _ = done.send(());
+            }
+            ToClient::RefreshDiagnostics => {
+                // Not awaited, like the code lens refresh.
+                let client = client.clone();
+                tokio::spawn(async move {
+                    let _ = client.workspace_diagnostic_refresh().await;
+                });
             }
             ToClient::RefreshCodeLenses => {
                 // Not awaited: the client answers when it likes, and a failure only means
@@ -465,6 +473,45 @@ impl LanguageServer for Backend {
     async fn did_change_configuration(&self, _: DidChangeConfigurationParams) {
         // The server has no client-side settings; `higraph.toml` may have changed meanwhile.
         self.world.send(Task::Reload);
+    }
+
+    async fn diagnostic(
+        &self,
+        params: lsp::DocumentDiagnosticParams,
+    ) -> jsonrpc::Result<lsp::DocumentDiagnosticReportResult> {
+        match self
+            .world
+            .pull(pull::Request::Document {
+                uri: params.text_document.uri,
+                previous: params.previous_result_id,
+            })
+            .await
+        {
+            Some(pull::Answer::Document(report)) => Ok(report),
+            _ => Err(rpc_error(
+                ErrorCode::InternalError,
+                "the analysis has stopped".into(),
+            )),
+        }
+    }
+
+    async fn workspace_diagnostic(
+        &self,
+        params: lsp::WorkspaceDiagnosticParams,
+    ) -> jsonrpc::Result<lsp::WorkspaceDiagnosticReportResult> {
+        match self
+            .world
+            .pull(pull::Request::Workspace {
+                previous: params.previous_result_ids,
+            })
+            .await
+        {
+            Some(pull::Answer::Workspace(report)) => Ok(report),
+            _ => Err(rpc_error(
+                ErrorCode::InternalError,
+                "the analysis has stopped".into(),
+            )),
+        }
     }
 
     async fn hover(&self, params: lsp::HoverParams) -> jsonrpc::Result<Option<lsp::Hover>> {

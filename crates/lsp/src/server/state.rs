@@ -36,6 +36,7 @@ use tower_lsp_server::ls_types::{
 
 use super::capabilities::ClientSupport;
 use super::diagnostics::{DiagnosticsWorker, FileDiagnostics};
+use super::pull;
 use super::testing::{TestKey, TestRecord, TestRecords};
 use super::token_delta::TokenCache;
 use super::vfs::{Changed, Document, Documents, PathMap};
@@ -90,6 +91,11 @@ pub(crate) enum Task {
         revision: u64,
         files: Vec<(String, FileDiagnostics)>,
     },
+    /// A diagnostics pull, answered once the current revision's diagnostics are ready.
+    Pull {
+        request: pull::Request,
+        reply: oneshot::Sender<pull::Answer>,
+    },
 }
 
 /// How indexing at start goes, for `$/progress`.
@@ -120,6 +126,9 @@ pub(crate) enum ToClient {
     Barrier(oneshot::Sender<()>),
     /// `workspace/codeLens/refresh` (the test lenses show a new result).
     RefreshCodeLenses,
+    /// `workspace/diagnostic/refresh` (pulled diagnostics of files the client did not edit
+    /// changed).
+    RefreshDiagnostics,
 }
 
 /// A cheap handle that sends tasks to the world.
@@ -154,6 +163,14 @@ impl WorldHandle {
     pub(crate) async fn snapshot(&self) -> Option<Snapshot> {
         let (reply, answer) = oneshot::channel();
         self.send(Task::Snapshot { reply });
+        answer.await.ok()
+    }
+
+    /// Answers a diagnostics pull; `None` if the world has stopped. A cancelled request
+    /// drops the answer.
+    pub(crate) async fn pull(&self, request: pull::Request) -> Option<pull::Answer> {
+        let (reply, answer) = oneshot::channel();
+        self.send(Task::Pull { request, reply });
         answer.await.ok()
     }
 }
@@ -356,6 +373,14 @@ struct World {
     semantic_tokens: Arc<TokenCache>,
     /// Where the rules' pages are (see `rule_pages`).
     rules_base: Option<Arc<str>>,
+    /// The revision whose diagnostics are in `published`.
+    ready: u64,
+    /// Pull mode: the result id of each published file (see `pull`).
+    result_ids: HashMap<String, String>,
+    /// Pull mode: the documents the client opened or changed since the last publication.
+    client_edited: HashSet<String>,
+    /// Pulls waiting for the current revision's diagnostics.
+    pending_pulls: Vec<(pull::Request, oneshot::Sender<pull::Answer>)>,
 }
 
 impl World {
@@ -383,6 +408,10 @@ impl World {
             code_lens_refresh: false,
             semantic_tokens: Arc::default(),
             rules_base: None,
+            ready: 0,
+            result_ids: HashMap::new(),
+            client_edited: HashSet::new(),
+            pending_pulls: Vec::new(),
         }
     }
 
@@ -476,6 +505,17 @@ impl World {
                 // A newer revision is being analysed: these are stale.
                 if revision == self.revision {
                     self.publish(files);
+                    self.ready = revision;
+                    for (request, reply) in std::mem::take(&mut self.pending_pulls) {
+                        let _ = reply.send(self.answer_pull(request));
+                    }
+                }
+            }
+            Task::Pull { request, reply } => {
+                if self.ready == self.revision {
+                    let _ = reply.send(self.answer_pull(request));
+                } else {
+                    self.pending_pulls.push((request, reply));
                 }
             }
         }
@@ -521,6 +561,11 @@ impl World {
         let records = Arc::make_mut(&mut self.test_records);
         if let Some(old) = records.insert(key, record) {
             files.extend(old.diagnostics.into_iter().map(|(file, _)| file));
+        }
+        if self.support.pull_diagnostics {
+            self.update_result_ids(files.into_iter(), true);
+            self.refresh_code_lenses();
+            return;
         }
         // Files not published yet get their test failures with their first publication.
         for name in files {
@@ -643,6 +688,7 @@ impl World {
             self.host.upsert_file(&name, contents);
             self.revision += 1;
             self.republish.insert(name.clone());
+            self.client_edited.insert(name.clone());
         }
         Arc::make_mut(&mut self.open_uris).insert(name.clone(), uri.clone());
         self.documents
@@ -693,6 +739,7 @@ impl World {
                 }
                 self.revision += 1;
                 self.generation += 1;
+                self.client_edited.insert(name.clone());
                 self.republish.insert(name);
             }
             Err(rejected) => self.log(
@@ -833,6 +880,10 @@ impl World {
     /// published, of every file not published yet (an empty list for a clean file), and of
     /// every open document opened or changed since (with its version).
     fn publish(&mut self, files: Vec<(String, FileDiagnostics)>) {
+        if self.support.pull_diagnostics {
+            self.keep_for_pulls(files);
+            return;
+        }
         let mut current: HashSet<String> = HashSet::new();
         for (name, diagnostics) in files {
             current.insert(name.clone());
@@ -888,6 +939,11 @@ impl World {
                 });
             }
         }
+        self.end_index_progress();
+    }
+
+    /// Ends the indexing progress after the first diagnostics (published or ready to pull).
+    fn end_index_progress(&mut self) {
         if let Some(progress) = self.index_progress.take() {
             let (sent, published) = oneshot::channel();
             let _ = self.to_client.send(ToClient::Barrier(sent));
@@ -895,6 +951,128 @@ impl World {
                 message: format!("{} indexed", count_files(self.host.paths().len())),
                 published,
             });
+        }
+    }
+}
+
+/// Pull diagnostics (see `pull`): the world keeps what it would publish and answers pulls.
+impl World {
+    /// Keeps the diagnostics of a revision for pulls (instead of publishing them), updates
+    /// the result ids, and asks the client to pull again when files it did not edit changed.
+    fn keep_for_pulls(&mut self, files: Vec<(String, FileDiagnostics)>) {
+        let first = self.ready == 0;
+        let mut current: HashSet<String> = HashSet::new();
+        let mut changed = Vec::new();
+        for (name, diagnostics) in files {
+            current.insert(name.clone());
+            let uri = match self.documents.get(&name) {
+                Some(document) => Some(document.uri.clone()),
+                None => self.paths.uri(&name),
+            };
+            let Some(uri) = uri else {
+                continue;
+            };
+            let same =
+                self.published.get(&name).is_some_and(|(old_uri, old)| {
+                    *old_uri == uri && Arc::ptr_eq(old, &diagnostics)
+                }) && !self.republish.contains(&name);
+            if !same {
+                changed.push(name.clone());
+            }
+            self.published.insert(name, (uri, diagnostics));
+        }
+        self.republish.clear();
+        let before = self.published.len();
+        self.published.retain(|name, _| current.contains(name));
+        self.result_ids.retain(|name, _| current.contains(name));
+        let removed = self.published.len() != before;
+        let refresh = self.update_result_ids(changed.into_iter(), false) || removed;
+        self.client_edited.clear();
+        if refresh && !first {
+            self.refresh_diagnostics();
+        }
+        self.end_index_progress();
+    }
+
+    /// Recomputes the result ids of `names`; whether one changed that calls for a refresh:
+    /// any (`any`), or one of a file the client did not edit since the last publication.
+    fn update_result_ids(&mut self, names: impl Iterator<Item = String>, any: bool) -> bool {
+        let mut refresh = false;
+        for name in names {
+            let Some((_, diagnostics)) = self.published.get(&name) else {
+                continue;
+            };
+            let id = pull::result_id(&self.with_test_failures(&name, diagnostics));
+            if self.result_ids.get(&name) != Some(&id) {
+                refresh |= any || !self.client_edited.contains(&name);
+                self.result_ids.insert(name, id);
+            }
+        }
+        if any && refresh {
+            self.refresh_diagnostics();
+        }
+        refresh
+    }
+
+    fn refresh_diagnostics(&self) {
+        if self.support.diagnostic_refresh {
+            let _ = self.to_client.send(ToClient::RefreshDiagnostics);
+        }
+    }
+
+    /// The result id of a published file.
+    fn result_id(&self, name: &str) -> Option<String> {
+        let (_, diagnostics) = self.published.get(name)?;
+        Some(match self.result_ids.get(name) {
+            Some(id) => id.clone(),
+            None => pull::result_id(&self.with_test_failures(name, diagnostics)),
+        })
+    }
+
+    /// The diagnostics of a file as pulled (none for a file not published).
+    fn pulled_items(&self, name: &str) -> Vec<lsp::Diagnostic> {
+        match self.published.get(name) {
+            Some((_, diagnostics)) => self.with_test_failures(name, diagnostics),
+            None => Vec::new(),
+        }
+    }
+
+    fn answer_pull(&self, request: pull::Request) -> pull::Answer {
+        match request {
+            pull::Request::Document { uri, previous } => {
+                // A document outside the workspace (or not analysed) has no diagnostics.
+                let name = self.paths.name(&uri).unwrap_or_default();
+                let id = self
+                    .result_id(&name)
+                    .unwrap_or_else(|| pull::result_id(&[]));
+                pull::Answer::Document(pull::document_report(previous.as_deref(), id, || {
+                    self.pulled_items(&name)
+                }))
+            }
+            pull::Request::Workspace { previous } => {
+                let previous: HashMap<&str, &str> = previous
+                    .iter()
+                    .map(|p| (p.uri.as_str(), p.value.as_str()))
+                    .collect();
+                let mut names: Vec<&String> = self.published.keys().collect();
+                names.sort_unstable();
+                let items = names
+                    .into_iter()
+                    .filter_map(|name| {
+                        let (uri, _) = self.published.get(name)?;
+                        Some(pull::workspace_item(
+                            uri.clone(),
+                            self.documents.get(name).map(|d| d.version),
+                            previous.get(uri.as_str()).copied(),
+                            self.result_id(name)?,
+                            || self.pulled_items(name),
+                        ))
+                    })
+                    .collect();
+                pull::Answer::Workspace(lsp::WorkspaceDiagnosticReportResult::Report(
+                    lsp::WorkspaceDiagnosticReport { items },
+                ))
+            }
         }
     }
 }
