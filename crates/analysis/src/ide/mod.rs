@@ -19,10 +19,12 @@
 //! | `code_actions`    | quick fixes from diagnostics; formatting edits |
 //! | `range_format`    | range formatting: the canonical layout of the items a range touches |
 //! | `document_links`  | symbol-table paths in `higraph.toml`, codes in `higraph-allow` comments |
+//! | `code_lens`       | counts above graphs, groups, states and symbols (resolved lazily) |
 
 use higraph_syntax::{TextRange, TextSize};
 
 mod code_actions;
+mod code_lens;
 mod completion;
 pub mod defs;
 mod document_links;
@@ -41,6 +43,7 @@ mod semantic_tokens;
 mod symbols;
 
 pub use code_actions::CodeAction;
+pub use code_lens::{CodeLens, LensKind, ResolvedLens};
 pub use completion::{CompletionItem, CompletionKind};
 pub use document_links::{DocumentLink, LinkTarget};
 pub use folding::{Fold, FoldKind};
