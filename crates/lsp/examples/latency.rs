@@ -20,6 +20,10 @@
 //!    operand (the graph's variables are offered), sent right after the diagnostics arrived (the analysis is current, but queries only completion uses
 //!    run for the first time in this revision).
 //! 3. **completion, repeated**: the same request again (everything is cached).
+//! 4. **code lens after the edit**: `textDocument/codeLens` (the lenses, unresolved), then
+//!    `codeLens/resolve` of the first state's incoming-transitions lens (a references search
+//!    over the graph, whose uses the edit made stale; nothing before it in the round needs
+//!    them).
 //!
 //! For comparison it then measures the analysis alone, in process, on the same edits: apply the
 //! edit to an `AnalysisHost` and compute all diagnostics; completion at the same position. The
@@ -161,6 +165,11 @@ fn run(options: &Options) -> Result<(), String> {
         &server.completion_after_edit,
     );
     row("  completion, repeated", &server.completion_repeated);
+    row("  codeLens after the edit", &server.lens);
+    row(
+        "  codeLens/resolve (state lens) after the edit",
+        &server.lens_resolve,
+    );
     println!("analysis alone, in process:");
     row("  apply_edits + all diagnostics", &analysis.edit);
     row(
@@ -176,6 +185,9 @@ struct Samples {
     edit: Vec<Duration>,
     completion_after_edit: Vec<Duration>,
     completion_repeated: Vec<Duration>,
+    /// Over stdio only.
+    lens: Vec<Duration>,
+    lens_resolve: Vec<Duration>,
 }
 
 /// The character of round `round`: odd rounds break the operation, even ones repair it.
@@ -258,7 +270,26 @@ fn over_stdio(
         let start = Instant::now();
         server.request("textDocument/completion", completion)?;
         let repeated = start.elapsed();
+        let start = Instant::now();
+        let lenses = server.request(
+            "textDocument/codeLens",
+            json!({ "textDocument": { "uri": uri } }),
+        )?;
+        let lens = start.elapsed();
+        let state_lens = lenses
+            .as_array()
+            .and_then(|lenses| lenses.iter().find(|l| l["data"]["kind"] == "stateIncoming"))
+            .cloned()
+            .ok_or("no state lens")?;
+        let start = Instant::now();
+        let resolved = server.request("codeLens/resolve", state_lens)?;
+        let lens_resolve = start.elapsed();
+        if resolved["command"]["command"] != "higraph.showReferences" {
+            return Err(format!("the state lens did not resolve: {resolved}"));
+        }
         if round >= WARM_UP {
+            samples.lens.push(lens);
+            samples.lens_resolve.push(lens_resolve);
             samples.edit.push(edit);
             samples.completion_after_edit.push(after_edit);
             samples.completion_repeated.push(repeated);
