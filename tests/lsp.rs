@@ -14,6 +14,8 @@ mod diagnostics;
 mod features;
 #[path = "lsp/format_tokens.rs"]
 mod format_tokens;
+#[path = "lsp/lenses.rs"]
+mod lenses;
 #[path = "lsp/lifecycle.rs"]
 mod lifecycle;
 #[path = "lsp/links.rs"]

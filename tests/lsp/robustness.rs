@@ -64,6 +64,7 @@ const DOCUMENT_METHODS: &[&str] = &[
     "textDocument/semanticTokens/full",
     "textDocument/formatting",
     "textDocument/semanticTokens/full/delta",
+    "textDocument/codeLens",
 ];
 
 const RANGE_METHODS: &[&str] = &[
@@ -202,6 +203,19 @@ impl Session {
                 self.request(
                     method,
                     json!({"textDocument": {"uri": uri}, "range": range, "context": {"diagnostics": []}, "options": {"tabSize": 2, "insertSpaces": true}}),
+                );
+            }
+            // A count lens to resolve, at any position, of any kind.
+            11 if self.rng.chance(30) => {
+                let uri = self.any_uri();
+                let position = self.position();
+                let kind = *self
+                    .rng
+                    .pick(&["stateIncoming", "symbolUses", "groupMessages", "x"]);
+                let range = self.range();
+                self.request(
+                    "codeLens/resolve",
+                    json!({"range": range, "data": {"uri": uri, "position": position, "kind": kind}}),
                 );
             }
             11 => {

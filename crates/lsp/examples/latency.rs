@@ -24,11 +24,15 @@
 //!    list of the first `CALL … (` after the edited operation. `max-graph` declares no block
 //!    interfaces (its CALLs are unchecked), so the answer is `null`: the figure is the cost of
 //!    finding the context and looking the callee's interface up in the current revision.
+//! 5. **code lens after the edit**: `textDocument/codeLens` (the lenses, unresolved), then
+//!    `codeLens/resolve` of the first state's incoming-transitions lens (a references search
+//!    over the graph, whose uses the edit made stale; nothing before it in the round needs
+//!    them).
 //!
 //! Then, with a second server started as a client that pulls diagnostics (LSP 3.17
 //! `textDocument.diagnostic`, so nothing is pushed), the same edits:
 //!
-//! 5. **edit → pulled diagnostics**: the `didChange` followed at once by a
+//! 6. **edit → pulled diagnostics**: the `didChange` followed at once by a
 //!    `textDocument/diagnostic` with the previous result id; the time runs from writing the
 //!    notification to reading the (full) report, whose content is checked.
 //!
@@ -190,6 +194,11 @@ fn run(options: &Options) -> Result<(), String> {
         &server.signature,
     );
     row("  edit -> textDocument/diagnostic (pull)", &pulled);
+    row("  codeLens after the edit", &server.lens);
+    row(
+        "  codeLens/resolve (state lens) after the edit",
+        &server.lens_resolve,
+    );
     println!("analysis alone, in process:");
     row("  apply_edits + all diagnostics", &analysis.edit);
     row(
@@ -210,6 +219,9 @@ struct Samples {
     completion_after_edit: Vec<Duration>,
     completion_repeated: Vec<Duration>,
     signature: Vec<Duration>,
+    /// Over stdio only.
+    lens: Vec<Duration>,
+    lens_resolve: Vec<Duration>,
 }
 
 /// The character of round `round`: odd rounds break the operation, even ones repair it.
@@ -300,8 +312,27 @@ fn over_stdio(
         let start = Instant::now();
         server.request("textDocument/signatureHelp", signature)?;
         let signature = start.elapsed();
+        let start = Instant::now();
+        let lenses = server.request(
+            "textDocument/codeLens",
+            json!({ "textDocument": { "uri": uri } }),
+        )?;
+        let lens = start.elapsed();
+        let state_lens = lenses
+            .as_array()
+            .and_then(|lenses| lenses.iter().find(|l| l["data"]["kind"] == "stateIncoming"))
+            .cloned()
+            .ok_or("no state lens")?;
+        let start = Instant::now();
+        let resolved = server.request("codeLens/resolve", state_lens)?;
+        let lens_resolve = start.elapsed();
+        if resolved["command"]["command"] != "higraph.showReferences" {
+            return Err(format!("the state lens did not resolve: {resolved}"));
+        }
         if round >= WARM_UP {
             samples.signature.push(signature);
+            samples.lens.push(lens);
+            samples.lens_resolve.push(lens_resolve);
             samples.edit.push(edit);
             samples.completion_after_edit.push(after_edit);
             samples.completion_repeated.push(repeated);

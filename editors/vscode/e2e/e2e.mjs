@@ -140,6 +140,21 @@ try {
   await page.goto(testUrl);
   await page.waitForSelector('.monaco-workbench', { timeout: 60_000 });
   await page.waitForTimeout(3000);
+  // (5a) the graph file shows count lenses (resolved through codeLens/resolve)
+  await open('anlage.higraph');
+  const counts = await poll(async () => {
+    const t = await page.locator('.codelens-decoration').allInnerTexts();
+    return t.some((x) => /\d+ (uses?|instances?|incoming transitions?)/.test(x)) ? t : null;
+  }, { tries: 60 });
+  check(!!counts, `the graph file shows count lenses (${(counts ?? []).join(' | ') || 'none'})`);
+  // clicking one (higraph.showReferences) opens the references peek
+  await page.locator('.codelens-decoration a', { hasText: /\d+ uses?/ }).first().click({ timeout: 10_000 }).catch(() => {});
+  const peek = await poll(async () => {
+    const t = await page.locator('.peekview-widget .peekview-title').allInnerTexts();
+    return t.length > 0 ? t : null;
+  }, { tries: 30 });
+  check(!!peek, `clicking a count lens opens the references peek (${(peek ?? []).join(' ').replace(/\s+/g, ' ') || 'no peek'})`);
+  await page.keyboard.press('Escape');
   await open('tests.higraph');
   const lenses = await poll(async () => {
     const t = await page.locator('.codelens-decoration').allInnerTexts();

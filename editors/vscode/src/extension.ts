@@ -10,6 +10,8 @@ import {
   State,
   type Executable,
   type LanguageClientOptions,
+  type Location as LspLocation,
+  type Position as LspPosition,
   type ServerOptions,
 } from 'vscode-languageclient/node';
 import { BUILD_COMMAND, buildTarget, describeBuild } from './build';
@@ -81,6 +83,11 @@ export function activate(context: vscode.ExtensionContext): void {
     vscode.commands.registerCommand('higraph.showGraphPreview', () => preview?.show()),
     vscode.commands.registerCommand('higraph.playTrace', (arg?: unknown) => playTrace(arg)),
     vscode.commands.registerCommand('higraph.buildWorkspace', () => buildWorkspace()),
+    // The count lenses' command: the server sends the arguments of `editor.action.showReferences`
+    // in LSP types (URI, position, locations), converted here to VS Code's.
+    vscode.commands.registerCommand('higraph.showReferences', (uri: string, position: LspPosition, locations: LspLocation[]) =>
+      showReferences(uri, position, locations),
+    ),
     vscode.workspace.onDidChangeConfiguration((e) => {
       if (e.affectsConfiguration('higraph.server.path')) {
         output.appendLine('higraph.server.path changed: restarting the server.');
@@ -93,6 +100,16 @@ export function activate(context: vscode.ExtensionContext): void {
   );
 
   void queue(() => start(context));
+}
+
+async function showReferences(uri: string, position: LspPosition, locations: LspLocation[]): Promise<void> {
+  const convert = runningClient().protocol2CodeConverter;
+  await vscode.commands.executeCommand(
+    'editor.action.showReferences',
+    convert.asUri(uri),
+    convert.asPosition(position),
+    (locations ?? []).map((location) => convert.asLocation(location)),
+  );
 }
 
 export function deactivate(): Thenable<void> | undefined {

@@ -50,6 +50,8 @@ test('package.json: settings and commands', () => {
     'higraph.showGraphPreview': 'HiGraph: Show Graph Preview',
     'higraph.playTrace': 'HiGraph: Play Test Trace',
     'higraph.buildWorkspace': 'HiGraph: Build',
+    // the command of the count lenses (hidden from the palette): opens the references view
+    'higraph.showReferences': 'HiGraph: Show References',
   });
   // the palette's build command must not be the server's `higraph.build`: the language client
   // registers that one itself (the server announces it), and a second registration fails

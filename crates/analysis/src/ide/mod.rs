@@ -21,11 +21,13 @@
 //! | `range_format`    | range formatting: the canonical layout of the items a range touches |
 //! | `document_links`  | symbol-table paths in `higraph.toml`, codes in `higraph-allow` comments |
 //! | `call_hierarchy`  | group → instances → graphs, and message flow between instances |
+//! | `code_lens`       | counts above graphs, groups, states and symbols (resolved lazily) |
 
 use higraph_syntax::{TextRange, TextSize};
 
 mod call_hierarchy;
 mod code_actions;
+mod code_lens;
 mod completion;
 pub mod defs;
 mod document_links;
@@ -46,6 +48,7 @@ mod symbols;
 
 pub use call_hierarchy::{Call, CallItem};
 pub use code_actions::CodeAction;
+pub use code_lens::{CodeLens, LensKind, ResolvedLens};
 pub use completion::{CompletionItem, CompletionKind};
 pub use document_links::{DocumentLink, LinkTarget};
 pub use folding::{Fold, FoldKind};

@@ -124,8 +124,9 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
         hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
         // `▶ Run test` on each test header, running `higraph.runTest` (`runtime.md` §8);
         // `higraph.build` writes the build (`export.md` §2, the code action on headers).
+        // The count lenses (instances, references, transitions, uses) resolve lazily.
         code_lens_provider: Some(lsp::CodeLensOptions {
-            resolve_provider: Some(false),
+            resolve_provider: Some(true),
         }),
         execute_command_provider: Some(lsp::ExecuteCommandOptions {
             commands: vec![

@@ -701,3 +701,104 @@ pub(crate) fn outgoing_calls(
             .collect(),
     ))
 }
+
+/// The client command of the count lenses: opens the references view. Its arguments are those
+/// of VS Code's `editor.action.showReferences` in LSP types: the document's URI, the position
+/// the view opens at, and the locations.
+pub(crate) const SHOW_REFERENCES: &str = "higraph.showReferences";
+
+/// `textDocument/codeLens`: the test lenses (`▶ Run test`, already resolved) and the count
+/// lenses, unresolved: their range and, as data, the document, the counted name's position
+/// and the kind of count.
+pub(crate) fn code_lens(
+    snapshot: &Snapshot,
+    params: lsp::CodeLensParams,
+) -> HandlerResult<Option<Vec<lsp::CodeLens>>> {
+    let uri = params.text_document.uri.clone();
+    let mut lenses = super::testing::code_lens(snapshot, params)?.unwrap_or_default();
+    if let Some(path) = snapshot.path(&uri)
+        && let Some(index) = snapshot.line_index(&path)
+    {
+        for lens in snapshot.analysis.code_lenses(&path)? {
+            let position = convert::position(&index, lens.name, snapshot.encoding);
+            lenses.push(lsp::CodeLens {
+                range: convert::range(&index, lens.range, snapshot.encoding),
+                command: None,
+                data: Some(serde_json::json!({
+                    "uri": uri,
+                    "position": position,
+                    "kind": lens.kind.as_str(),
+                })),
+            });
+        }
+    }
+    Ok(Some(lenses))
+}
+
+/// The data of an unresolved count lens.
+#[derive(serde::Deserialize)]
+struct LensData {
+    uri: lsp::Uri,
+    position: lsp::Position,
+    kind: String,
+}
+
+/// `codeLens/resolve`: counts a lens's places with the references search and gives it the
+/// command [`SHOW_REFERENCES`]. A lens whose name changed meanwhile gets a title without a
+/// command; a lens that has its command already comes back unchanged.
+pub(crate) fn code_lens_resolve(
+    snapshot: &Snapshot,
+    mut lens: lsp::CodeLens,
+) -> HandlerResult<lsp::CodeLens> {
+    if lens.command.is_some() {
+        return Ok(lens);
+    }
+    let Some(data) = lens
+        .data
+        .clone()
+        .and_then(|data| serde_json::from_value::<LensData>(data).ok())
+    else {
+        return Err(HandlerError::Failed(
+            "the code lens has no valid data".into(),
+        ));
+    };
+    let Some(kind) = higraph_analysis::ide::LensKind::from_name(&data.kind) else {
+        return Err(HandlerError::Failed(format!(
+            "unknown code lens kind `{}`",
+            data.kind
+        )));
+    };
+    let params = lsp::TextDocumentPositionParams {
+        text_document: lsp::TextDocumentIdentifier::new(data.uri.clone()),
+        position: data.position,
+    };
+    let resolved = match file_position(snapshot, &params) {
+        Some((position, _)) => snapshot.analysis.resolve_code_lens(&position, kind)?,
+        None => None,
+    };
+    lens.command = Some(match resolved {
+        Some(resolved) => {
+            let locations: Vec<lsp::Location> = resolved
+                .locations
+                .iter()
+                .filter_map(|l| location(snapshot, &l.path, l.range))
+                .collect();
+            lsp::Command {
+                title: resolved.title,
+                command: SHOW_REFERENCES.to_owned(),
+                arguments: Some(vec![
+                    serde_json::json!(data.uri),
+                    serde_json::json!(data.position),
+                    serde_json::json!(locations),
+                ]),
+            }
+        }
+        // An empty command makes the lens a plain label; the next edit lists fresh lenses.
+        None => lsp::Command {
+            title: "outdated".to_owned(),
+            command: String::new(),
+            arguments: None,
+        },
+    });
+    Ok(lens)
+}

@@ -704,7 +704,12 @@ impl LanguageServer for Backend {
         &self,
         params: lsp::CodeLensParams,
     ) -> jsonrpc::Result<Option<Vec<lsp::CodeLens>>> {
-        self.answer("codeLens", params, testing::code_lens).await
+        self.answer("codeLens", params, handlers::code_lens).await
+    }
+
+    async fn code_lens_resolve(&self, params: lsp::CodeLens) -> jsonrpc::Result<lsp::CodeLens> {
+        self.answer("codeLens/resolve", params, handlers::code_lens_resolve)
+            .await
     }
 
     /// `higraph.runTest`: runs a test and answers its `--format json` object; the world

@@ -1,0 +1,123 @@
+//! Count lenses end to end (issue 15, item 2): `textDocument/codeLens` answers unresolved
+//! lenses (range and data), `codeLens/resolve` adds the title and the command
+//! `higraph.showReferences` with the arguments of `editor.action.showReferences` (URI,
+//! position, locations), the locations being what find-references answers; the `▶ Run test`
+//! lenses stay as they were. On the small workspace `tests/data/testing`.
+
+use serde_json::{Value, json};
+
+use crate::client::{Server, TempTree, repo_root};
+
+/// A copy of `tests/data/testing`.
+fn workspace() -> TempTree {
+    let tree = TempTree::new();
+    let root = repo_root().join("tests/data/testing");
+    for relative in ["higraph.toml", "anlage.higraph", "tests.higraph"] {
+        tree.file(
+            relative,
+            std::fs::read(root.join(relative)).expect("the data"),
+        );
+    }
+    tree
+}
+
+fn lenses(server: &mut Server, uri: &str) -> Vec<Value> {
+    server
+        .request(
+            "textDocument/codeLens",
+            json!({"textDocument": {"uri": uri}}),
+        )
+        .expect("codeLens answers")
+        .as_array()
+        .cloned()
+        .expect("a list of lenses")
+}
+
+#[test]
+fn count_lenses_resolve_to_the_references() {
+    let tree = workspace();
+    let (mut server, result) =
+        Server::initialized(&tree.path(), json!({"window": {"workDoneProgress": true}}));
+    assert_eq!(
+        result["capabilities"]["codeLensProvider"]["resolveProvider"], true,
+        "{result}"
+    );
+    server.wait_for_progress_end();
+
+    let uri = tree.uri("anlage.higraph");
+    let unresolved = lenses(&mut server, &uri);
+    assert!(
+        unresolved
+            .iter()
+            .all(|lens| lens["command"].is_null() && lens["data"]["uri"] == uri),
+        "{unresolved:?}"
+    );
+    let resolved: Vec<Value> = unresolved
+        .iter()
+        .map(|lens| {
+            server
+                .request("codeLens/resolve", lens.clone())
+                .expect("codeLens/resolve answers")
+        })
+        .collect();
+    let summary: Vec<String> = resolved
+        .iter()
+        .map(|lens| {
+            format!(
+                "{}: {}",
+                lens["range"]["start"]["line"],
+                lens["command"]["title"].as_str().unwrap_or("-")
+            )
+        })
+        .collect();
+    assert_eq!(
+        summary,
+        [
+            "2: 2 uses",
+            "3: 3 uses",
+            "5: 1 instance",
+            "5: 1 reference",
+            "8: 2 incoming transitions",
+            "8: 1 outgoing transition",
+            "9: 1 incoming transition",
+            "9: 1 outgoing transition",
+            "14: 1 instance",
+            "14: 0 internal messages",
+        ],
+        "{resolved:?}"
+    );
+
+    // Every command opens the references view; a symbol's locations are its references.
+    for lens in &resolved {
+        let command = &lens["command"];
+        assert_eq!(command["command"], "higraph.showReferences", "{lens}");
+        assert_eq!(command["arguments"][0], uri);
+        assert_eq!(command["arguments"][1], lens["data"]["position"]);
+    }
+    let taster = &resolved[0];
+    let references = server
+        .request(
+            "textDocument/references",
+            json!({
+                "textDocument": {"uri": uri},
+                "position": taster["data"]["position"],
+                "context": {"includeDeclaration": false},
+            }),
+        )
+        .expect("references answers");
+    assert_eq!(taster["command"]["arguments"][2], references);
+
+    // The test lenses are there as before, resolved already, and resolve leaves them alone.
+    let tests = lenses(&mut server, &tree.uri("tests.higraph"));
+    let titles: Vec<&str> = tests
+        .iter()
+        .filter_map(|lens| lens["command"]["title"].as_str())
+        .collect();
+    assert_eq!(titles, ["▶ Run test", "▶ Run test"]);
+    let again = server
+        .request("codeLens/resolve", tests[0].clone())
+        .expect("codeLens/resolve answers");
+    assert_eq!(again, tests[0]);
+
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
