@@ -1068,7 +1068,7 @@ impl<'a> Gen<'a> {
             if flip {
                 self.g("NOT", "");
             }
-            if shadowed && replaces_rlo(ins.op) {
+            if shadowed && ins.op.replaces_rlo() {
                 shadowed = false;
             }
         }
@@ -2154,44 +2154,6 @@ fn imm_text(op: OpCode, bits: u32) -> String {
         Uw | Ow | Xow => format!("W#16#{:X}", bits & 0xFFFF),
         _ => format!("DW#16#{bits:X}"),
     }
-}
-
-/// As `stl.rs`: an instruction whose RLO no longer depends on the RLO before it.
-fn replaces_rlo(op: OpCode) -> bool {
-    use OpCode::*;
-    matches!(
-        op,
-        U | Un
-            | O
-            | On
-            | X
-            | Xn
-            | Close
-            | Set
-            | Clr
-            | Fp
-            | Fn
-            | EqI
-            | NeI
-            | GtI
-            | LtI
-            | GeI
-            | LeI
-            | EqD
-            | NeD
-            | GtD
-            | LtD
-            | GeD
-            | LeD
-            | EqR
-            | NeR
-            | GtR
-            | LtR
-            | GeR
-            | LeR
-            | Call
-            | Cc
-    )
 }
 
 fn for_each_instr(graph: &Graph, mut f: impl FnMut(&Instr)) {

@@ -249,6 +249,47 @@ pub enum OpCode {
 }
 
 impl OpCode {
+    /// Does the instruction leave an RLO that no longer depends on the RLO before it (so the
+    /// normal and the RLO-0 pass agree from here on)? NOT, `=`, S, R, `O` and the non-logic
+    /// operations keep the difference; FP and FN are counted as ending it (their edge memories
+    /// differ anyway). The interpreter and the STEP 7 generator share this rule.
+    pub fn replaces_rlo(self) -> bool {
+        use OpCode::*;
+        matches!(
+            self,
+            U | Un
+                | O
+                | On
+                | X
+                | Xn
+                | Close
+                | Set
+                | Clr
+                | Fp
+                | Fn
+                | EqI
+                | NeI
+                | GtI
+                | LtI
+                | GeI
+                | LeI
+                | EqD
+                | NeD
+                | GtD
+                | LtD
+                | GeD
+                | LeD
+                | EqR
+                | NeR
+                | GtR
+                | LtR
+                | GeR
+                | LeR
+                | Call
+                | Cc
+        )
+    }
+
     /// The operation of a SIMATIC name in upper case (`U(`, `==I`, `RND+`); `+` is `AddInt`
     /// (the lowering picks `AddDint` for `+ L#n`).
     pub fn from_simatic(name: &str) -> Option<OpCode> {

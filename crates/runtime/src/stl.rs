@@ -70,7 +70,7 @@ pub fn run_block_with<O: Observer>(
             m.instructions += i as u64 + 1;
             return Err(f);
         }
-        if shadowed && replaces_rlo(ins.op) {
+        if shadowed && ins.op.replaces_rlo() {
             shadowed = false;
         }
         obs.after(i, ins, m);
@@ -90,46 +90,6 @@ fn is_timer_or_counter_op(binding: &[Place], ins: &Instr) -> bool {
         ),
         _ => false,
     }
-}
-
-/// Does the instruction leave an RLO that no longer depends on the RLO before it (so both
-/// passes agree from here on)? NOT, `=`, S, R, `O` and the non-logic operations keep the
-/// difference; FP and FN are counted as ending it (their edge memories differ anyway).
-fn replaces_rlo(op: OpCode) -> bool {
-    use OpCode::*;
-    matches!(
-        op,
-        U | Un
-            | O
-            | On
-            | X
-            | Xn
-            | Close
-            | Set
-            | Clr
-            | Fp
-            | Fn
-            | EqI
-            | NeI
-            | GtI
-            | LtI
-            | GeI
-            | LeI
-            | EqD
-            | NeD
-            | GtD
-            | LtD
-            | GeD
-            | LeD
-            | EqR
-            | NeR
-            | GtR
-            | LtR
-            | GeR
-            | LeR
-            | Call
-            | Cc
-    )
 }
 
 /// The nesting stack: per entry the opening kind, RLO, OR and /FC.
