@@ -17,6 +17,12 @@
 //! Times are CPU time (user + system) of the command, or of the measuring thread for the
 //! keystroke, where the platform reports it (Unix), else wall-clock time: on a machine shared
 //! with other work the wall-clock time measures the other work as much as ours.
+//!
+//! `--count` measures executed instructions instead of time, with Valgrind (which must be
+//! installed): `cachegrind` without cache simulation counts a command's instructions, and the
+//! keystroke runs in a child process under `callgrind` that counts only the measured edit
+//! (`--toggle-collect`). Counts do not depend on the machine's load or caches, so their growth
+//! per doubling is the cost of the algorithms alone; runs take about 50 times longer.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -33,6 +39,8 @@ struct Options {
     runs: usize,
     family: Option<String>,
     server: PathBuf,
+    /// Count instructions with Valgrind instead of timing.
+    count: bool,
 }
 
 /// What is run for one size, after its input has been written.
@@ -40,12 +48,64 @@ enum Job {
     /// The binary with these arguments, in this folder.
     Command { dir: PathBuf, args: Vec<String> },
     /// One keystroke in a file of the host.
-    Keystroke {
-        host: Box<AnalysisHost>,
-        path: String,
-        at: TextSize,
-        round: usize,
-    },
+    Keystroke(Keystroke),
+}
+
+/// A big file in a host, edited back and forth at one place.
+struct Keystroke {
+    host: Box<AnalysisHost>,
+    path: String,
+    at: TextSize,
+    round: usize,
+}
+
+/// The keystroke family's input of size `n`, loaded and analysed once.
+fn keystroke(n: usize) -> Result<Keystroke, String> {
+    let text = scaling::items_in_one_file(n);
+    // Inside the transition of the graph in the middle: `UN Start` ↔ `UX Start`.
+    let middle = scaling::small_graph(n / 2);
+    let item = text.find(&middle).ok_or("no middle graph")?;
+    let at = item + middle.find("UN Start").ok_or("no UN")? + 1;
+    let mut host = AnalysisHost::new();
+    let path = "items.higraph".to_owned();
+    host.load(WorkspaceData {
+        files: vec![(path.clone(), FileContents::Text(text))],
+        ..WorkspaceData::default()
+    });
+    host.analysis().diagnostics();
+    Ok(Keystroke {
+        host: Box::new(host),
+        path,
+        at: TextSize::from(at as u32),
+        round: 0,
+    })
+}
+
+impl Keystroke {
+    /// One edit and all diagnostics after it; checks that the edit took effect.
+    fn press(&mut self) -> Result<(), String> {
+        self.round += 1;
+        let edit = Edit {
+            delete: TextRange::at(self.at, TextSize::from(1)),
+            insert: if self.round % 2 == 1 { "X" } else { "N" }.to_owned(),
+        };
+        self.host
+            .apply_edits(&self.path, &[edit])
+            .ok_or("the analysis refused the edit")?;
+        let diagnostics = self.host.analysis().diagnostics();
+        let count: usize = diagnostics.iter().map(|(_, d)| d.len()).sum();
+        if (self.round % 2 == 1) != (count > 0) {
+            return Err(format!("round {}: {count} diagnostics", self.round));
+        }
+        Ok(())
+    }
+}
+
+/// The keystroke counted by `callgrind --toggle-collect` in `--keystroke-child` (never
+/// inlined, so that the tool sees the function).
+#[inline(never)]
+fn measured_keystroke(keystroke: &mut Keystroke) -> Result<(), String> {
+    keystroke.press()
 }
 
 struct Family {
@@ -56,6 +116,8 @@ struct Family {
     /// Writes the input of size `n` into the folder and says what to run.
     prepare: fn(usize, &Path) -> Result<Job, String>,
 }
+
+const KEYSTROKE_SIZES: [usize; 4] = [6_000, 12_000, 24_000, 48_000];
 
 fn families() -> Vec<Family> {
     vec![
@@ -141,27 +203,8 @@ fn families() -> Vec<Family> {
         Family {
             name: "one keystroke in a big file (in process)",
             unit: "graphs",
-            sizes: [6_000, 12_000, 24_000, 48_000],
-            prepare: |n, _| {
-                let text = scaling::items_in_one_file(n);
-                // Inside the transition of the graph in the middle: `UN Start` ↔ `UX Start`.
-                let middle = scaling::small_graph(n / 2);
-                let item = text.find(&middle).ok_or("no middle graph")?;
-                let at = item + middle.find("UN Start").ok_or("no UN")? + 1;
-                let mut host = AnalysisHost::new();
-                let path = "items.higraph".to_owned();
-                host.load(WorkspaceData {
-                    files: vec![(path.clone(), FileContents::Text(text))],
-                    ..WorkspaceData::default()
-                });
-                host.analysis().diagnostics();
-                Ok(Job::Keystroke {
-                    host: Box::new(host),
-                    path,
-                    at: TextSize::from(at as u32),
-                    round: 0,
-                })
-            },
+            sizes: KEYSTROKE_SIZES,
+            prepare: |n, _| Ok(Job::Keystroke(keystroke(n)?)),
         },
         Family {
             name: "parentheses in a chart condition (check)",
@@ -232,38 +275,101 @@ impl Job {
                     _ => Err(format!("`{}` ended with {status}", args.join(" "))),
                 }
             }
-            Job::Keystroke {
-                host,
-                path,
-                at,
-                round,
-            } => {
-                *round += 1;
-                let edit = Edit {
-                    delete: TextRange::at(*at, TextSize::from(1)),
-                    insert: if *round % 2 == 1 { "X" } else { "N" }.to_owned(),
-                };
+            Job::Keystroke(keystroke) => {
                 let start = Clock::thread();
-                host.apply_edits(path, &[edit])
-                    .ok_or("the analysis refused the edit")?;
-                let diagnostics = host.analysis().diagnostics();
-                let elapsed = start.elapsed();
-                let count: usize = diagnostics.iter().map(|(_, d)| d.len()).sum();
-                if (*round % 2 == 1) != (count > 0) {
-                    return Err(format!("round {round}: {count} diagnostics"));
+                keystroke.press()?;
+                Ok(start.elapsed())
+            }
+        }
+    }
+
+    /// Runs once under Valgrind and returns the number of instructions executed.
+    fn count(&self, server: &Path, n: usize) -> Result<u64, String> {
+        match self {
+            Job::Command { dir, args } => {
+                let output = Command::new("valgrind")
+                    .args([
+                        "--tool=cachegrind",
+                        "--cache-sim=no",
+                        "--cachegrind-out-file=/dev/null",
+                    ])
+                    .arg(server)
+                    .args(args.iter())
+                    .current_dir(dir)
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::piped())
+                    .output()
+                    .map_err(|e| format!("valgrind: {e} (is Valgrind installed?)"))?;
+                valgrind_total(&output.stderr, "I   refs:")
+                    .or_else(|| valgrind_total(&output.stderr, "I refs:"))
+                    .ok_or_else(|| {
+                        format!("`{}`: no instruction count from cachegrind", args.join(" "))
+                    })
+            }
+            Job::Keystroke(_) => {
+                let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+                let output = Command::new("valgrind")
+                    .args([
+                        "--tool=callgrind",
+                        "--collect-atstart=no",
+                        "--toggle-collect=*measured_keystroke*",
+                        "--callgrind-out-file=/dev/null",
+                    ])
+                    .arg(exe)
+                    .args(["--keystroke-child", &n.to_string()])
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::piped())
+                    .output()
+                    .map_err(|e| format!("valgrind: {e} (is Valgrind installed?)"))?;
+                if !output.status.success() {
+                    return Err(format!(
+                        "the keystroke child failed: {}",
+                        String::from_utf8_lossy(&output.stderr).trim()
+                    ));
                 }
-                Ok(elapsed)
+                valgrind_total(&output.stderr, "Collected :")
+                    .ok_or_else(|| "no instruction count from callgrind".to_owned())
             }
         }
     }
 }
 
+/// The number after `label` in Valgrind's summary (`==123== I   refs:      1,234,567`).
+fn valgrind_total(stderr: &[u8], label: &str) -> Option<u64> {
+    let text = String::from_utf8_lossy(stderr);
+    let line = text.lines().rev().find(|l| l.contains(label))?;
+    let digits: String = line[line.find(label)? + label.len()..]
+        .chars()
+        .filter(char::is_ascii_digit)
+        .collect();
+    digits.parse().ok()
+}
+
+/// `--keystroke-child N`: loads the keystroke input, warms it with one edit, then makes the
+/// one edit that `callgrind` counts.
+fn keystroke_child(n: &str) -> Result<(), String> {
+    let n: usize = n.parse().map_err(|e| format!("--keystroke-child: {e}"))?;
+    let mut keystroke = keystroke(n)?;
+    keystroke.press()?;
+    measured_keystroke(&mut keystroke)
+}
+
 fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if let [_, flag, n] = args.as_slice()
+        && flag == "--keystroke-child"
+    {
+        if let Err(message) = keystroke_child(n) {
+            eprintln!("error: {message}");
+            std::process::exit(1);
+        }
+        return;
+    }
     let options = match options() {
         Ok(options) => options,
         Err(message) => {
             eprintln!("error: {message}");
-            eprintln!("usage: scaling [--runs N] [--family NAME] [--server PATH]");
+            eprintln!("usage: scaling [--runs N] [--family NAME] [--server PATH] [--count]");
             std::process::exit(2);
         }
     };
@@ -288,14 +394,14 @@ fn main() {
             continue;
         }
         match measure(&family, &options) {
-            Ok(times) => {
-                let ratios: Vec<f64> = times
+            Ok(costs) => {
+                let ratios: Vec<f64> = costs
                     .windows(2)
-                    .map(|w| w[1].as_secs_f64() / w[0].as_secs_f64().max(1e-9))
+                    .map(|w| w[1].value() / w[0].value().max(1e-9))
                     .collect();
                 worst = ratios.iter().copied().fold(worst, f64::max);
                 let sizes: Vec<String> = family.sizes.iter().map(|n| n.to_string()).collect();
-                let cells: Vec<String> = times.iter().map(|t| seconds(*t)).collect();
+                let cells: Vec<String> = costs.iter().map(Cost::to_string).collect();
                 let growth: Vec<String> = ratios.iter().map(|r| format!("{r:.2}×")).collect();
                 println!(
                     "| {} | {} {} | {} | {} |",
@@ -313,12 +419,41 @@ fn main() {
     println!("Largest growth per doubling: {worst:.2}× (target ≤ {TARGET}×).");
 }
 
-/// The best time of each size.
-fn measure(family: &Family, options: &Options) -> Result<Vec<Duration>, String> {
-    let mut times = Vec::new();
+/// What one size cost: the best time, or the instruction count.
+#[derive(Clone, Copy)]
+enum Cost {
+    Time(Duration),
+    Instructions(u64),
+}
+
+impl Cost {
+    fn value(self) -> f64 {
+        match self {
+            Cost::Time(t) => t.as_secs_f64(),
+            Cost::Instructions(n) => n as f64,
+        }
+    }
+}
+
+impl std::fmt::Display for Cost {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Cost::Time(t) => f.write_str(&seconds(t)),
+            Cost::Instructions(n) => write!(f, "{:.1} M", n as f64 / 1e6),
+        }
+    }
+}
+
+/// The cost of each size.
+fn measure(family: &Family, options: &Options) -> Result<Vec<Cost>, String> {
+    let mut costs = Vec::new();
     for &n in &family.sizes {
         let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
         let mut job = (family.prepare)(n, dir.path())?;
+        if options.count {
+            costs.push(Cost::Instructions(job.count(&options.server, n)?));
+            continue;
+        }
         // One untimed run warms the file cache (and, in process, the first revision).
         job.run(&options.server)?;
         // A keystroke takes milliseconds: more runs make its best time steady.
@@ -330,9 +465,9 @@ fn measure(family: &Family, options: &Options) -> Result<Vec<Duration>, String> 
         for _ in 0..runs {
             best = best.min(job.run(&options.server)?);
         }
-        times.push(best);
+        costs.push(Cost::Time(best));
     }
-    Ok(times)
+    Ok(costs)
 }
 
 /// A start time: CPU time of the waited-for children or of this thread where the platform
@@ -423,6 +558,7 @@ fn options() -> Result<Options, String> {
         runs: 3,
         family: None,
         server: target.join("release/higraph-lsp"),
+        count: false,
     };
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
@@ -436,6 +572,7 @@ fn options() -> Result<Options, String> {
             }
             "--family" => options.family = Some(value()?),
             "--server" => options.server = PathBuf::from(value()?),
+            "--count" => options.count = true,
             other => return Err(format!("unknown argument {other}")),
         }
     }
