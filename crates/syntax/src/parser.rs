@@ -629,6 +629,23 @@ impl<'t> Parser<'t> {
             .push(SyntaxError::new(ErrorCode::HG0001, range, message));
     }
 
+    /// HG0001 at the current token, with a related location: `expected {expected}, found
+    /// {found}`, and `related_message` at `related` (the `IF` an `END_IF` would close).
+    pub(crate) fn error_expected_related(
+        &mut self,
+        expected: &str,
+        related: TextRange,
+        related_message: &str,
+    ) {
+        let range = self.nth_range(0);
+        let message = format!("expected {expected}, found {}", self.found());
+        self.recoveries += 1;
+        self.errors.push(
+            SyntaxError::new(ErrorCode::HG0001, range, message)
+                .with_related(related, related_message),
+        );
+    }
+
     /// HG0002: the element is complete but its `;` is missing.
     pub(crate) fn error_missing_semi(&mut self, element: &dyn fmt::Display) {
         let at = TextRange::empty(self.last_end);
@@ -824,17 +841,23 @@ impl<'t> Parser<'t> {
             (Scope::Sequencer, STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW) => named(),
             (Scope::Sequencer, PARALLEL_KW | ALT_KW | BRANCH_KW) => self.nth_opens_body(n + 1),
             (Scope::Chart, SEQUENCER_KW) => named(),
+            (Scope::Chart, ACTION_KW) => self.nth_is_name(n + 1),
             (Scope::Chart, IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => self.nth_opens_body(n + 1),
             _ => false,
         }
     }
 
     /// Is the `n`th token an identifier that can be a name: any identifier but the operators
-    /// `and`, `or`, `xor`, `not` (reserved words, language.md §7)? After a keyword, such an
-    /// operator makes the keyword a name in an expression (`step and x`).
+    /// `and`, `or`, `xor`, `not` (reserved words, language.md §7) and the IEC words that
+    /// follow an operand (`THEN`, `OF`, `MOD`, docs/iec.md §2)? After a keyword, such a word
+    /// makes the keyword a name in an expression (`step and x`, `IF step THEN`).
     fn nth_is_name(&self, n: usize) -> bool {
         self.nth_token(n).is_some_and(|t| {
-            t.kind == IDENT && !matches!(t.keyword, AND_KW | OR_KW | XOR_KW | NOT_KW)
+            t.kind == IDENT
+                && !matches!(
+                    t.keyword,
+                    AND_KW | OR_KW | XOR_KW | NOT_KW | THEN_KW | OF_KW | MOD_KW
+                )
         })
     }
 
@@ -842,7 +865,13 @@ impl<'t> Parser<'t> {
     pub(crate) fn nth_starts_operand(&self, n: usize) -> bool {
         match self.nth(n) {
             IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
-            MINUS => self.nth(n + 1) == NUMBER && self.nth_joined(n + 1),
+            // `-5`, and unary minus: `-x`, `-(a + b)`, `- 5`.
+            MINUS => {
+                matches!(
+                    self.nth(n + 1),
+                    NUMBER | IDENT | TYPED_CONST | STRING | L_PAREN
+                ) && !self.nth_on_new_line(n + 1)
+            }
             _ => false,
         }
     }
@@ -953,6 +982,11 @@ impl<'t> Parser<'t> {
     /// `:=` written as two adjacent tokens.
     pub(crate) fn at_assign(&self) -> bool {
         self.at(COLON) && self.nth(1) == EQ && self.nth_joined(1)
+    }
+
+    /// `:=` written as two adjacent tokens at the `n`th token.
+    pub(crate) fn nth_is_assign(&self, n: usize) -> bool {
+        self.nth(n) == COLON && self.nth(n + 1) == EQ && self.nth_joined(n + 1)
     }
 
     /// A `:` that is not the start of `:=`.
