@@ -106,7 +106,14 @@ pub fn import(text: &str) -> Result<Import, Error> {
         ..roxmltree::ParsingOptions::default()
     };
     let doc = roxmltree::Document::parse_with_options(text, options).map_err(|e| {
-        let pos = e.pos();
+        let mut pos = e.pos();
+        if matches!(e, roxmltree::Error::UnexpectedEndOfStream) {
+            // roxmltree has no position for it: the end of the text.
+            let lines = xml::Lines::new(text);
+            let line = lines.line(text.len());
+            let start = text.rfind('\n').map_or(0, |i| i + 1);
+            pos = roxmltree::TextPos::new(line as u32, (text.len() - start) as u32 + 1);
+        }
         Error::Xml {
             line: pos.row,
             column: pos.col,
@@ -131,6 +138,8 @@ pub fn import(text: &str) -> Result<Import, Error> {
         }
         pou::import_pou(node, &lines, &mut chart_names, &mut out);
     }
+    // In the order of the file (stable: problems of one line keep their order).
+    out.problems.sort_by_key(|p| p.line);
     if out.charts.is_empty() && out.problems.is_empty() {
         out.problems.push(Problem {
             line: lines.line(root.range().start),

@@ -3,15 +3,15 @@
 
 use std::collections::{HashMap, HashSet};
 
-/// Reserved in an IEC chart (`docs/iec.md` §2): the IEC keywords, the type names and the
-/// standard function blocks. IEC tools do not accept them as names either, so a name from a
+/// Reserved in an IEC chart (`docs/iec.md` §2): the IEC keywords, the IEC type names and the
+/// standard function blocks (S7 type names such as `TIMER` are not: `Timer : TON;` is the
+/// usual IEC declaration). IEC tools do not accept them as names either, so a name from a
 /// PLCopen file meets them only when the file is odd.
 const RESERVED: &[&str] = &[
     "IF", "THEN", "ELSIF", "ELSE", "END_IF", "CASE", "OF", "END_CASE", "MOD", "AND", "OR",
     "XOR", "NOT", "TRUE", "FALSE", "BOOL", "BYTE", "WORD", "DWORD", "INT", "DINT", "REAL",
-    "S5TIME", "TIME", "DATE", "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "CHAR", "STRING",
-    "TIMER", "COUNTER", "POINTER", "ANY", "ARRAY", "STRUCT", "TON", "TOF", "TP", "R_TRIG",
-    "F_TRIG", "CTU", "CTD", "CTUD", "SR", "RS",
+    "TIME", "DATE", "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT", "STRING", "ARRAY", "STRUCT",
+    "TON", "TOF", "TP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "SR", "RS",
 ];
 
 /// Whether the language takes `name` as it is.

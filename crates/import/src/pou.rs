@@ -296,6 +296,18 @@ fn string_comment(doc: &str) -> Option<String> {
     .then(|| doc.to_owned())
 }
 
+/// `not x` for a name, `not (...)` for anything longer.
+fn negate(text: &str) -> String {
+    if text.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.') {
+        format!("not {text}")
+    } else {
+        format!("not ({text})")
+    }
+}
+
+/// The `attribute` of CODESYS's SFC vendor data that names a step's active action.
+const CODESYS_STEP_ACTION: &str = "700a583f-b4d4-43e4-8c14-629c7cd3bec8";
+
 fn one_line(text: &str) -> String {
     text.chars()
         .map(|c| if c.is_control() { ' ' } else { c })
@@ -612,6 +624,8 @@ struct Walker<'c, 'l, 'a, 'i> {
     others: HashMap<u64, Node<'a, 'i>>,
     /// Step index → its action blocks.
     step_actions: HashMap<usize, Vec<Node<'a, 'i>>>,
+    /// Step index → output variables wired to its action output (the standard's example).
+    step_outputs: HashMap<usize, Vec<Node<'a, 'i>>>,
     st: Names,
     /// Variables and actions (one name space: a qualifier's operand names either).
     var_names: NameSet,
@@ -639,6 +653,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             ids: HashMap::new(),
             others: HashMap::new(),
             step_actions: HashMap::new(),
+            step_outputs: HashMap::new(),
             st,
             var_names,
             named_actions: HashMap::new(),
@@ -709,6 +724,23 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             });
         }
         self.visited = vec![false; self.g.len()];
+        // The output pins of each divergence, when they are told apart by formalParameter
+        // (the standard's own example): a connection naming one gives its branch's place.
+        let pins: Vec<Vec<&str>> = self
+            .g
+            .iter()
+            .map(|n| {
+                let pins: Vec<&str> = children(n.node, "connectionPointOut")
+                    .filter_map(|o| attr(o, "formalParameter"))
+                    .collect();
+                let mut sorted = pins.clone();
+                sorted.sort_unstable();
+                sorted.dedup();
+                let distinct = sorted.len() == pins.len() && !pins.iter().any(|p| p.is_empty());
+                if distinct && pins.len() > 1 { pins } else { Vec::new() }
+            })
+            .collect();
+        let mut edges: Vec<(usize, usize, usize)> = Vec::new();
         // Edges from the connections.
         for i in 0..self.g.len() {
             let node = self.g[i].node;
@@ -720,7 +752,12 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                         continue;
                     };
                     match self.ids.get(&r) {
-                        Some(&p) if p != i => self.g[p].succ.push(i),
+                        Some(&p) if p != i => {
+                            let pin = attr(c, "formalParameter")
+                                .and_then(|f| pins[p].iter().position(|q| *q == f))
+                                .unwrap_or(usize::MAX);
+                            edges.push((p, i, pin));
+                        }
                         Some(_) => self.ctx.problem(c, None, "an element connected to itself"),
                         None => self.ctx.problem(
                             c,
@@ -731,11 +768,28 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 }
             }
         }
-        for i in 0..self.g.len() {
-            let mut succ = std::mem::take(&mut self.g[i].succ);
-            succ.sort_by_key(|&s| self.g[s].key);
-            succ.dedup();
-            self.g[i].succ = succ;
+        edges.sort_by_key(|&(p, i, pin)| (p, pin, self.g[i].key));
+        edges.dedup_by_key(|e| (e.0, e.1));
+        for (p, i, _) in edges {
+            self.g[p].succ.push(i);
+        }
+        let mut outs: Vec<Node<'a, 'i>> = self
+            .others
+            .values()
+            .copied()
+            .filter(|o| xml::local(*o) == "outVariable")
+            .collect();
+        outs.sort_by_key(|o| o.range().start);
+        for o in outs {
+            let step = child(o, "connectionPointIn")
+                .and_then(|cpi| child(cpi, "connection"))
+                .and_then(|c| attr(c, "refLocalId"))
+                .and_then(|v| v.trim().parse::<u64>().ok())
+                .and_then(|r| self.ids.get(&r).copied())
+                .filter(|&s| matches!(self.g[s].kind, Kind::Step | Kind::Macro));
+            if let Some(s) = step {
+                self.step_outputs.entry(s).or_default().push(o);
+            }
         }
         for b in blocks {
             let step = child(b, "connectionPointIn")
@@ -1190,7 +1244,16 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             .filter(|&k| !jumped(&branches[k]))
             .collect();
         let Some(&k) = open.first() else {
-            els.push(El::Alt(branches.into_iter().map(|(e, _)| e).collect()));
+            if matches!(els.last(), Some(El::Step { .. }))
+                && branches.iter().all(|(b, _)| b.len() == 1 && matches!(b[0], El::Jump(..)))
+            {
+                // Only jumps after a step: `step S; jump A ...; jump B ...` (text order).
+                for (b, _) in branches {
+                    els.extend(b);
+                }
+            } else {
+                els.push(El::Alt(branches.into_iter().map(|(e, _)| e).collect()));
+            }
             return Flow::Stop(Stop::End);
         };
         for &other in &open[1..] {
@@ -1213,10 +1276,11 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             Vec::new()
         };
         let after_step = matches!(els.last(), Some(El::Step { .. }));
+        let single_jump = |b: &[El]| b.len() == 1 && matches!(b[0], El::Jump(..));
         let only_jumps = all
             .iter()
             .enumerate()
-            .all(|(i, (b, _))| i == k || (b.len() == 1 && matches!(b[0], El::Jump(..))));
+            .all(|(i, (b, _))| i == k || single_jump(b));
         if k == 0 && after_step && only_jumps && matches!(cont.first(), Some(El::Trans(_))) {
             // `step S; jump ...; trans T; ...`: the normal successor is tried first.
             for (b, _) in all.into_iter().skip(1) {
@@ -1391,6 +1455,50 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 });
             }
         }
+        // A variable wired to the step's action output is on while the step is active.
+        for o in self.step_outputs.remove(&i).unwrap_or_default() {
+            let expr = child(o, "expression").map(xml::text).unwrap_or_default();
+            let expr = expr.trim();
+            let path = st::condition(expr, &self.st)
+                .ok()
+                .filter(|p| p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.'));
+            match path {
+                Some(p) if attr(o, "negated") != Some("true") => lines.push(format!("N {p};")),
+                _ => self.ctx.problem(
+                    o,
+                    element.clone(),
+                    format!("the output variable `{expr}` wired to the step is not supported (only a plain, not negated variable is)"),
+                ),
+            }
+        }
+        // CODESYS keeps a step's own actions in its vendor data.
+        if let Some(add) = child(node, "addData") {
+            for a in add
+                .descendants()
+                .filter(|d| d.is_element() && xml::local(*d) == "attribute")
+            {
+                let value = xml::text(a);
+                let value = value.trim();
+                let upper = value.to_ascii_uppercase();
+                let named = self.named_actions.get(&upper).cloned();
+                if attr(a, "guid") == Some(CODESYS_STEP_ACTION) && !value.is_empty() {
+                    match named {
+                        Some(n) => lines.push(format!("N {n};")),
+                        None => self.ctx.problem(
+                            a,
+                            element.clone(),
+                            format!("the step action {value} (CODESYS vendor data) is not an action of the POU"),
+                        ),
+                    }
+                } else if named.is_some() {
+                    self.ctx.problem(
+                        a,
+                        element.clone(),
+                        format!("the step's entry or exit action {value} (CODESYS vendor data) is not imported"),
+                    );
+                }
+            }
+        }
         El::Step {
             name,
             doc: xml::documentation(node),
@@ -1447,8 +1555,14 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 match source {
                     Some(v) if xml::local(v) == "inVariable" => {
                         let expr = child(v, "expression").map(xml::text).unwrap_or_default();
-                        st::condition(&expr, &self.st)
-                            .map_err(|e| format!("the FBD variable `{}`: {}", expr.trim(), e.reason))?
+                        let text = st::condition(&expr, &self.st).map_err(|e| {
+                            format!("the FBD variable `{}`: {}", expr.trim(), e.reason)
+                        })?;
+                        if attr(v, "negated") == Some("true") {
+                            negate(&text)
+                        } else {
+                            text
+                        }
                     }
                     Some(v) => {
                         return Err(format!(
@@ -1461,11 +1575,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             }
             other => return Err(format!("<{other}> conditions are not supported")),
         };
-        Ok(if negated {
-            format!("not ({text})")
-        } else {
-            text
-        })
+        Ok(if negated { negate(&text) } else { text })
     }
 
     fn st_condition(&self, lang: Option<Node<'_, '_>>) -> Result<String, String> {

@@ -941,18 +941,19 @@ fn write_expr(out: &mut String, e: &Expr, parent: u8, depth: usize) {
         }
         Expr::Binary(op, l, r) => {
             let p = op.prec();
-            let paren = p < parent || (p == 4 && parent == 4);
+            let paren = p < parent;
             if paren {
                 out.push('(');
             }
-            // Left operand: same precedence binds left (except comparisons, never chained).
-            let left_ctx = if p == 4 { 5 } else { p };
+            // Comparisons are not chained: a comparison operand of one is parenthesized.
+            // Otherwise operators bind to the left: a right operand of the same precedence
+            // is parenthesized.
+            let (left_ctx, right_ctx) = if p == 4 { (5, 5) } else { (p, p + 1) };
             write_expr(out, l, left_ctx, depth + 1);
             out.push(' ');
             out.push_str(op.text());
             out.push(' ');
-            // Right operand: same precedence needs parentheses (left-associative).
-            write_expr(out, r, p + 1, depth + 1);
+            write_expr(out, r, right_ctx, depth + 1);
             if paren {
                 out.push(')');
             }
