@@ -872,7 +872,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                     names::sanitize(given, "T")
                 };
                 let unique = trans.unique(&name);
-                if unique != name && !(cond.is_some_and(|c| xml::local(c) == "reference")) {
+                if unique != name && cond.is_none_or(|c| xml::local(c) != "reference") {
                     self.ctx.problem(
                         node,
                         Some(format!("transition {given}")),
