@@ -170,3 +170,95 @@ fn huge_and_deep_documents() {
         out.problems
     );
 }
+
+/// Random damage to the test files (bytes deleted, duplicated, swapped; ST keywords
+/// sprinkled in): the import never panics, and what it writes has no `<` of XML left in it.
+#[test]
+fn damaged_files_never_panic() {
+    let files = [
+        "neutral_mixer.xml",
+        "codesys_ampel.xml",
+        "beremiz_station.xml",
+        "unsupported.xml",
+        "broken_graph.xml",
+    ];
+    let words = [
+        "IF ",
+        "END_IF",
+        "CASE ",
+        "(*",
+        "*)",
+        "'",
+        "\"",
+        "<",
+        ">",
+        "&amp;",
+        "(",
+        ")",
+        ":=",
+        "..",
+        "T#",
+        "16#",
+        ";",
+        ".",
+        "NOT ",
+        "-",
+        "<step localId=\"3\"/>",
+        "refLocalId=\"1\"",
+    ];
+    let mut seed: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = |n: usize| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % n.max(1) as u64) as usize
+    };
+    for round in 0..400 {
+        let mut text = data(files[round % files.len()]).into_bytes();
+        for _ in 0..1 + next(8) {
+            let at = next(text.len());
+            match next(4) {
+                0 => {
+                    let len = next(40).min(text.len() - at);
+                    text.drain(at..at + len);
+                }
+                1 => {
+                    let len = next(60).min(text.len() - at);
+                    let piece: Vec<u8> = text[at..at + len].to_vec();
+                    let to = next(text.len());
+                    text.splice(to..to, piece);
+                }
+                2 => {
+                    let w = words[next(words.len())].as_bytes();
+                    text.splice(at..at, w.iter().copied());
+                }
+                _ => {
+                    let other = next(text.len());
+                    text.swap(at, other);
+                }
+            }
+        }
+        let text = String::from_utf8_lossy(&text);
+        if let Ok(out) = higraph_import::import(&text) {
+            for chart in &out.charts {
+                assert!(chart.text.ends_with(">\n"));
+                assert!(!chart.text.contains("<?xml"));
+                if std::env::var("IMPORT_FUZZ_SHOW").is_ok() {
+                    for e in higraph_syntax::parse(&chart.text).errors() {
+                        let at = e.range.start().into();
+                        let line_start = chart.text[..at].rfind('\n').map_or(0, |i| i + 1);
+                        let line_end = chart.text[at..]
+                            .find('\n')
+                            .map_or(chart.text.len(), |i| at + i);
+                        eprintln!(
+                            "FUZZ {} {} | {}",
+                            e.code,
+                            e.message,
+                            &chart.text[line_start..line_end]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
