@@ -21,6 +21,7 @@ mod file_contents;
 #[doc(hidden)]
 pub mod fixture_workspace;
 pub mod format;
+pub mod iec;
 mod host;
 pub mod ide;
 pub mod index;
