@@ -203,7 +203,10 @@ pub const KEYWORDS: &[&str] = &[
 /// operations of the STL subset are not reserved there.
 pub fn reserved_kind(name: &str) -> Option<&'static str> {
     let upper = name.to_ascii_uppercase();
-    if crate::lang::RESERVED_TYPES.contains(&upper.as_str()) {
+    // TIMER and COUNTER are S7 types, not IEC ones: `Timer` is a usual IEC instance name.
+    if crate::lang::RESERVED_TYPES.contains(&upper.as_str())
+        && !matches!(upper.as_str(), "TIMER" | "COUNTER")
+    {
         return Some("a data type");
     }
     if upper == "TRUE" || upper == "FALSE" {
@@ -248,5 +251,6 @@ mod tests {
         // STL operations are not reserved in an IEC chart.
         assert_eq!(reserved_kind("SET"), None);
         assert_eq!(reserved_kind("L"), None);
+        assert_eq!(reserved_kind("Timer"), None);
     }
 }

@@ -21,9 +21,9 @@ mod file_contents;
 #[doc(hidden)]
 pub mod fixture_workspace;
 pub mod format;
-pub mod iec;
 mod host;
 pub mod ide;
+pub mod iec;
 pub mod index;
 pub mod lang;
 mod line_index;
