@@ -347,6 +347,16 @@ fn definition(db: &dyn salsa::Database, ws: Workspace, definition: &Definition) 
             };
             parts.push(format!("{kind} of sequencer `{sequencer}`"));
         }
+        Definition::Action { chart, .. } => {
+            parts.push(code(&header(&node)));
+            let statements =
+                ast::ChartAction::cast(node.clone()).map_or(0, |a| a.statements().count());
+            parts.push(format!(
+                "action of chart `{}` · {} · runs while a qualifier of an active step holds it",
+                item_name(db, *chart),
+                plural(statements, "statement")
+            ));
+        }
         Definition::Predefined { .. } | Definition::Symbol(_) => {}
     }
     if let Some(comment) = comment
