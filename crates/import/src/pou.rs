@@ -326,6 +326,8 @@ fn negate(text: &str) -> String {
 
 /// The `attribute` of CODESYS's SFC vendor data that names a step's active action.
 const CODESYS_STEP_ACTION: &str = "700a583f-b4d4-43e4-8c14-629c7cd3bec8";
+/// The `attribute` of CODESYS's SFC vendor data that holds an element's comment.
+const CODESYS_COMMENT: &str = "7d894980-aeea-405c-a0f6-e2b26429c58f";
 
 fn one_line(text: &str) -> String {
     text.chars()
@@ -1518,7 +1520,8 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 ),
             }
         }
-        // CODESYS keeps a step's own actions in its vendor data.
+        let mut doc = xml::documentation(node);
+        // CODESYS keeps a step's comment and its own actions in its vendor data.
         if let Some(add) = child(node, "addData") {
             for a in add
                 .descendants()
@@ -1528,7 +1531,11 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 let value = value.trim();
                 let upper = value.to_ascii_uppercase();
                 let named = self.named_actions.get(&upper).cloned();
-                if attr(a, "guid") == Some(CODESYS_STEP_ACTION) && !value.is_empty() {
+                if attr(a, "guid") == Some(CODESYS_COMMENT) {
+                    if doc.is_none() && !value.is_empty() {
+                        doc = Some(value.to_owned());
+                    }
+                } else if attr(a, "guid") == Some(CODESYS_STEP_ACTION) && !value.is_empty() {
                     match named {
                         Some(n) => lines.push(format!("N {n};")),
                         None => self.ctx.problem(
@@ -1546,11 +1553,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 }
             }
         }
-        El::Step {
-            name,
-            doc: xml::documentation(node),
-            lines,
-        }
+        El::Step { name, doc, lines }
     }
 
     fn transition(&mut self, i: usize) -> Trans {
