@@ -10,8 +10,8 @@
 use crate::eval::{self, Env};
 use crate::machine::{Fault, Machine};
 use crate::program::{
-    Chart, ChartTrans, ChartTransKind, Command, OpState, Program, Qualifier, SfcFlag, StepIdx,
-    StepMember, Stmt, Switching,
+    Chart, ChartTrans, ChartTransKind, Command, OpState, Place, Program, Qualifier, SfcFlag,
+    Statement, StepIdx, StepMember, Switching,
 };
 use crate::trace::{ChartFired, ChartRecord, CommandRecord};
 use crate::value::Value;
@@ -398,20 +398,78 @@ impl<'a> Ctx<'a, '_> {
         Ok(eval::truth(&self.eval(rt, e)?))
     }
 
-    fn exec(&mut self, rt: &ChartRt, stmts: &[Stmt]) -> Result<(), Fault> {
+    /// Runs statements in order. Recurses into `IF`/`CASE` bodies: the depth is bounded by the
+    /// parser's nesting limit (HG0012), which the lowering inherits.
+    fn exec(&mut self, rt: &ChartRt, stmts: &[Statement]) -> Result<(), Fault> {
         for stmt in stmts {
-            let run = |ctx: &mut Self| -> Result<(), Fault> {
-                let v = ctx.eval(rt, &stmt.value)?;
-                ctx.m.write_value(&stmt.target, &eval::convert(v, stmt.ty))
+            let origin = match stmt {
+                Statement::Assign(s) => s.origin,
+                Statement::If { origin, .. } | Statement::Case { origin, .. } => *origin,
+                Statement::Call(c) => c.origin,
             };
-            run(self).map_err(|mut f| {
+            self.exec_one(rt, stmt).map_err(|mut f| {
                 if f.origin == crate::program::Origin::NONE {
-                    f.origin = stmt.origin;
+                    f.origin = origin;
                 }
                 f
             })?;
         }
         Ok(())
+    }
+
+    fn exec_one(&mut self, rt: &ChartRt, stmt: &Statement) -> Result<(), Fault> {
+        match stmt {
+            Statement::Assign(stmt) => {
+                let v = self.eval(rt, &stmt.value)?;
+                self.m.write_value(&stmt.target, &eval::convert(v, stmt.ty))
+            }
+            Statement::If { arms, else_, .. } => {
+                for (cond, body) in arms {
+                    if self.eval_bool(rt, cond)? {
+                        return self.exec(rt, body);
+                    }
+                }
+                self.exec(rt, else_)
+            }
+            Statement::Case {
+                selector,
+                arms,
+                else_,
+                ..
+            } => {
+                let v = self.eval(rt, selector)?;
+                let k = eval::integer_of(&v);
+                for (labels, body) in arms {
+                    if k.is_some_and(|k| labels.iter().any(|&(lo, hi)| lo <= k && k <= hi)) {
+                        return self.exec(rt, body);
+                    }
+                }
+                self.exec(rt, else_)
+            }
+            Statement::Call(call) => {
+                let ch: &'a Chart = self.ch;
+                let Some(fb) = ch.fbs.get(call.fb as usize) else {
+                    return Err(Fault::new(format!("no function block {}", call.fb)));
+                };
+                for (member, e) in &call.inputs {
+                    let v = self.eval(rt, e)?;
+                    let Some(cell) = fb.cell(*member) else {
+                        continue;
+                    };
+                    let v = eval::convert(v, member.ty());
+                    self.m.write_value(&Place::Cell(cell), &v)?;
+                }
+                crate::fb::call(self.m, fb)?;
+                for (member, target, ty) in &call.outputs {
+                    let Some(cell) = fb.cell(*member) else {
+                        continue;
+                    };
+                    let v = self.m.read_value(&Place::Cell(cell), member.ty())?;
+                    self.m.write_value(target, &eval::convert(v, *ty))?;
+                }
+                Ok(())
+            }
+        }
     }
 
     fn phase(&mut self, rt: &ChartRt, seq: usize, step: usize, phase: Phase) -> Result<(), Fault> {

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use higraph_runtime::program::{
     Action, Association, Chart, ChartTrans, ChartTransKind, CmpOp, Expr, Path, PathKind, Place,
-    Qualifier, Sequencer, SfcFlag, Step, StepIdx, Stmt, Switching, TransIdx,
+    Profile, Qualifier, Sequencer, SfcFlag, Statement, Step, StepIdx, Stmt, Switching, TransIdx,
 };
 use higraph_runtime::value::{Ty, Value};
 use higraph_syntax::literal::{self, LiteralClass};
@@ -218,7 +218,7 @@ impl ChartLowering<'_, '_> {
     }
 
     /// `path := expr;` statements of a node's body.
-    fn statements(&mut self, node: &higraph_syntax::SyntaxNode) -> Vec<Stmt> {
+    fn statements(&mut self, node: &higraph_syntax::SyntaxNode) -> Vec<Statement> {
         let mut out = Vec::new();
         for assignment in crate::rules::chart::body_children(node).filter_map(ast::Assignment::cast)
         {
@@ -241,12 +241,12 @@ impl ChartLowering<'_, '_> {
                 continue;
             };
             let origin = self.origin(crate::rules::chart::without_semi(assignment.syntax()));
-            out.push(Stmt {
+            out.push(Statement::Assign(Stmt {
                 target: place,
                 ty: path.ty,
                 value,
                 origin,
-            });
+            }));
         }
         out
     }
@@ -352,6 +352,8 @@ impl Lowerer<'_> {
             autostart: false,
             sequencers: Vec::new(),
             actions: Vec::new(),
+            profile: Profile::Pcs7,
+            fbs: Vec::new(),
         };
         for prop in chart.props() {
             let (Some(keyword), Some(value)) = (prop.keyword(), prop.value()) else {
@@ -606,6 +608,7 @@ impl ChartLowering<'_, '_> {
                             actions.push(Action {
                                 name: lowered.text,
                                 place,
+                                body: None,
                             });
                             actions.len() - 1
                         }
