@@ -960,13 +960,17 @@ pub enum Statement {
     /// `(low, high)` holds the selector runs, else `else_`.
     Case {
         selector: Expr,
-        arms: Vec<(Vec<(i64, i64)>, Vec<Statement>)>,
+        arms: Vec<CaseArm>,
         else_: Vec<Statement>,
         origin: Origin,
     },
     /// `Timer(IN := x, PT := T#5S, Q => y);`
     Call(FbCall),
 }
+
+/// An arm of a `CASE`: its labels as inclusive ranges `(low, high)` (a single label `n` is
+/// `(n, n)`), and its statements.
+pub type CaseArm = (Vec<(i64, i64)>, Vec<Statement>);
 
 impl From<Stmt> for Statement {
     fn from(s: Stmt) -> Statement {

@@ -1107,11 +1107,7 @@ fn pre_and_post_run_around_the_steps() {
     );
     // pre sets M0.0, so T sees it in the same cycle; post copies S1's activity
     sq.pre = vec![set_true(m(0, 0)).into()];
-    sq.post = vec![assign(
-        m(0, 1),
-        step_path("S1", 0, 0, 0, StepMember::Active),
-    )
-    .into()];
+    sq.post = vec![assign(m(0, 1), step_path("S1", 0, 0, 0, StepMember::Active)).into()];
     let mut s = Sim::new(chart("C", vec![], vec![sq]), 10);
     s.command(Command::Start);
     s.step();
