@@ -824,6 +824,7 @@ impl<'t> Parser<'t> {
             (Scope::Sequencer, STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW) => named(),
             (Scope::Sequencer, PARALLEL_KW | ALT_KW | BRANCH_KW) => self.nth_opens_body(n + 1),
             (Scope::Chart, SEQUENCER_KW) => named(),
+            (Scope::Chart, ACTION_KW) => self.nth_is_name(n + 1),
             (Scope::Chart, IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => self.nth_opens_body(n + 1),
             _ => false,
         }
@@ -842,7 +843,13 @@ impl<'t> Parser<'t> {
     pub(crate) fn nth_starts_operand(&self, n: usize) -> bool {
         match self.nth(n) {
             IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
-            MINUS => self.nth(n + 1) == NUMBER && self.nth_joined(n + 1),
+            // `-5`, and unary minus: `-x`, `-(a + b)`, `- 5`.
+            MINUS => {
+                matches!(
+                    self.nth(n + 1),
+                    NUMBER | IDENT | TYPED_CONST | STRING | L_PAREN
+                ) && !self.nth_on_new_line(n + 1)
+            }
             _ => false,
         }
     }
