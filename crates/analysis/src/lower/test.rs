@@ -266,6 +266,16 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
                 let cell = placer.lw.program.charts.get(c as usize)?.vars.get(*var)?.1;
                 PathKind::Place(Place::Cell(cell))
             }
+            PathTarget::ChartFb { chart, var, member } => {
+                let c = *placer.charts.get(*chart)?;
+                let lowered = placer.lw.program.charts.get(c as usize)?;
+                let name = &lowered.vars.get(*var)?.0;
+                let fb = lowered
+                    .fbs
+                    .iter()
+                    .find(|f| f.name.eq_ignore_ascii_case(name))?;
+                PathKind::Place(Place::Cell(fb.cell(*member)?))
+            }
             PathTarget::Step {
                 chart,
                 sequencer,
