@@ -571,10 +571,15 @@ fn a_changed_expectation_of_the_ampel_example_fails() {
         failures[0].starts_with("HG9901 expect failed: at cycle 10 (t = 100 ms): "),
         "{failures:?}"
     );
-    assert!(
-        failures[0].contains("Ampel.Zaehler.CV = 5"),
-        "{failures:?}"
-    );
+    assert!(failures[0].contains("Ampel.Zaehler.CV = 5"), "{failures:?}");
+    // arithmetic in a test expression is evaluated, not dropped
+    let host = ampel(Some((
+        "Ampel.Zaehler.CV * 2 - 1 = 9",
+        "Ampel.Zaehler.CV * 2 - 1 = 8",
+    )));
+    let failures = run_iec(&host, "tests.higraph", "Teile_Zaehlen");
+    assert_eq!(failures.len(), 1, "{failures:?}");
+    assert!(failures[0].contains("arithmetic in tests"), "{failures:?}");
     // the timing of the light: one cycle later is wrong
     let host = ampel(Some(("step 30; // 31", "step 29; // 30")));
     let failures = run_iec(&host, "tests.higraph", "Ampel_Runde");

@@ -703,7 +703,10 @@ fn a_changed_expectation_of_the_ampel_example_fails() {
     assert_eq!(failures.as_array().map(Vec::len), Some(1), "{failures:#}");
     assert_eq!(failures[0]["code"], "HG9901");
     assert_eq!(
-        (failures[0]["cycle"].as_u64(), failures[0]["time_ms"].as_u64()),
+        (
+            failures[0]["cycle"].as_u64(),
+            failures[0]["time_ms"].as_u64()
+        ),
         (Some(43), Some(4300))
     );
     assert_eq!(
