@@ -642,3 +642,55 @@ test Schlecht <
     );
     assert_eq!(codes.len(), 2, "{codes:#?}");
 }
+
+/// IEC structure: an `alt` branch that ends with a jump does not converge, a branch may be a
+/// single jump, the last step jumps back to the initial step.
+#[test]
+fn iec_branches_ending_in_or_being_a_jump() {
+    let host = host(
+        r#"
+chart C <
+  profile iec;
+  in < Links : BOOL; Rechts : BOOL; Weiter : BOOL; >
+  sequencer S <
+    step A < >
+    alt <
+      branch < trans TL < Links; > step B < > jump JB -> A < Rechts; > >
+      branch < jump JR -> D < Rechts; > >
+      branch < trans TW < Weiter; > step W < > trans T3 < Weiter; > >
+    >
+    step D < >
+    jump Zurueck -> A < Links and Rechts; >
+  >
+>
+test Wege <
+  run C;
+  step;
+  set C.Links := TRUE;
+  set C.Weiter := TRUE;
+  step;
+  expect C.B;
+  step;
+  expect C.B "B ends its branch with a jump: nothing else follows it";
+  set C.Links := FALSE;
+  set C.Weiter := FALSE;
+  set C.Rechts := TRUE;
+  step;
+  expect C.A and not C.B;
+  step;
+  expect C.D and not C.A "a branch that is a jump";
+  set C.Links := TRUE;
+  step;
+  expect C.A "the cyclic jump";
+  set C.Links := FALSE;
+  set C.Rechts := FALSE;
+  set C.Weiter := TRUE;
+  step;
+  expect C.W;
+  step;
+  expect C.D "the branch converges";
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "Wege"), Vec::<String>::new());
+}
