@@ -230,13 +230,19 @@ impl<'c, 'a> Walker<'c, 'a> {
     /// action is HG7502) and for a later action of a name (HG7510, C3) only the uses count.
     pub fn actions(&mut self) {
         let actions: Vec<ast::ChartAction> = self.scope.chart.chart.actions().collect();
+        // `scope.actions` holds the named actions in text order.
+        let mut named = 0;
         for action in actions {
-            let duplicate = action.name().and_then(|n| n.token()).is_some_and(|t| {
-                self.scope
-                    .actions
-                    .iter()
-                    .any(|a| a.duplicate && a.name_range == t.text_range())
-            });
+            let duplicate = match action.name().and_then(|n| n.token()) {
+                Some(_) => {
+                    named += 1;
+                    self.scope
+                        .actions
+                        .get(named - 1)
+                        .is_some_and(|a| a.duplicate)
+                }
+                None => false,
+            };
             let report = self.scope.iec && !duplicate;
             let mut writes = Vec::new();
             for statement in action.statements() {
@@ -529,8 +535,15 @@ impl<'c, 'a> Walker<'c, 'a> {
         written: &str,
     ) {
         let range = operand.syntax().text_range();
+        let instance = match target {
+            Target::Var(i) if self.scope.iec => self.scope.vars.get(*i).and_then(|v| v.fb),
+            _ => None,
+        };
         let problem = match operand {
             ast::Operand::Literal(_) => Some("a constant".to_owned()),
+            _ if instance.is_some() => {
+                instance.map(|fb| format!("a function block instance ({})", fb.name()))
+            }
             _ => match target.ty(self.scope) {
                 Some(Type::Bool) | None => None,
                 Some(ty) => Some(ty.to_string()),
