@@ -1013,6 +1013,48 @@ mod tests {
     }
 
     #[test]
+    fn named_actions_and_derived_types() {
+        let pou = Pou {
+            name: "A".to_owned(),
+            locals: vec![Variable {
+                name: "Timer".to_owned(),
+                ty: IecType::Derived("TON".to_owned()),
+                address: None,
+                initial: None,
+                documentation: None,
+            }],
+            actions: vec![NamedAction {
+                name: "Count".to_owned(),
+                body: "IF a < b THEN\n  n := n + 1;\nEND_IF;".to_owned(),
+                documentation: Some("one more".to_owned()),
+            }],
+            body: vec![Element::Step(Step {
+                name: "S".to_owned(),
+                initial: true,
+                actions: vec![ActionAssoc {
+                    qualifier: Qualifier::Dl,
+                    duration: Some("T#1s".to_owned()),
+                    body: ActionBody::Reference("Count".to_owned()),
+                }],
+                documentation: None,
+            })],
+            ..Pou::default()
+        };
+        let xml = String::from_utf8(write(&Project {
+            pous: vec![pou],
+            globals: Vec::new(),
+        }))
+        .unwrap_or_default();
+        assert!(xml.contains("<type><derived name=\"TON\"/></type>"));
+        let actions = xml.find("<actions>").unwrap_or(0);
+        let body = xml.find("<SFC>").unwrap_or(0);
+        assert!(0 < actions && actions < body, "actions before the body");
+        assert!(xml.contains("<action name=\"Count\">"));
+        assert!(xml.contains("IF a &lt; b THEN\n  n := n + 1;\nEND_IF;"));
+        assert!(xml.contains("qualifier=\"DL\" duration=\"T#1s\""));
+    }
+
+    #[test]
     fn empty_project() {
         let xml = String::from_utf8(write(&Project::default())).unwrap_or_default();
         assert!(xml.contains("<pous/>"));
