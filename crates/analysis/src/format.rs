@@ -784,6 +784,7 @@ fn chart_prop_value(token: &SyntaxToken) -> Option<&'static str> {
     let values: &[&'static str] = match significant_tokens(&prop).next()?.kind() {
         MODE_KW => &["auto", "manual"],
         SWITCHING_KW => &["T", "B", "T_or_B", "T_and_B", "step"],
+        PROFILE_KW => &["iec", "pcs7"],
         _ => return None,
     };
     values

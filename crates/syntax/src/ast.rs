@@ -356,6 +356,10 @@ ast_node!(
     ChartProp, CHART_PROP
 );
 ast_node!(
+    /// `action NAME ["comment"] < statements >` in a chart.
+    ChartAction, CHART_ACTION
+);
+ast_node!(
     /// `sequencer NAME ...`
     Sequencer, SEQUENCER
 );
@@ -422,6 +426,38 @@ ast_node!(
 ast_node!(
     /// `path := expr;`
     Assignment, ASSIGNMENT
+);
+ast_node!(
+    /// `IF c THEN .. {ELSIF ..} [ELSE ..] END_IF;`
+    IfStmt, IF_STMT
+);
+ast_node!(
+    /// `ELSIF c THEN ..` of an `IF`.
+    ElsifClause, ELSIF_CLAUSE
+);
+ast_node!(
+    /// `ELSE ..` of an `IF` or a `CASE`.
+    ElseClause, ELSE_CLAUSE
+);
+ast_node!(
+    /// `CASE e OF .. [ELSE ..] END_CASE;`
+    CaseStmt, CASE_STMT
+);
+ast_node!(
+    /// `1, 3..5: ..` of a `CASE`.
+    CaseArm, CASE_ARM
+);
+ast_node!(
+    /// `3`, `-1` or `3..5` of a case arm.
+    CaseLabel, CASE_LABEL
+);
+ast_node!(
+    /// `Timer(IN := x, Q => y);`
+    FbCall, FB_CALL
+);
+ast_node!(
+    /// `IN := x` or `Q => y` of a call.
+    FbArg, FB_ARG
 );
 ast_node!(
     /// A binary expression.
@@ -666,6 +702,108 @@ impl Expr {
             Expr::TestPath(it) => &it.syntax,
         }
     }
+}
+
+/// A statement of a chart (step phases, `pre`, `post`, action bodies, and nested in `IF` and
+/// `CASE`).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Stmt {
+    Assignment(Assignment),
+    If(IfStmt),
+    Case(CaseStmt),
+    Call(FbCall),
+}
+
+impl Stmt {
+    pub fn cast(node: SyntaxNode) -> Option<Stmt> {
+        Some(match node.kind() {
+            ASSIGNMENT => Stmt::Assignment(Assignment { syntax: node }),
+            IF_STMT => Stmt::If(IfStmt { syntax: node }),
+            CASE_STMT => Stmt::Case(CaseStmt { syntax: node }),
+            FB_CALL => Stmt::Call(FbCall { syntax: node }),
+            _ => return None,
+        })
+    }
+
+    pub fn syntax(&self) -> &SyntaxNode {
+        match self {
+            Stmt::Assignment(it) => &it.syntax,
+            Stmt::If(it) => &it.syntax,
+            Stmt::Case(it) => &it.syntax,
+            Stmt::Call(it) => &it.syntax,
+        }
+    }
+}
+
+/// The statements directly inside `parent`.
+fn stmts(parent: &SyntaxNode) -> impl Iterator<Item = Stmt> + use<> {
+    parent.children().filter_map(Stmt::cast)
+}
+
+/// The operator of a [`BinExpr`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Or,
+    Xor,
+    And,
+    Eq,
+    Ne,
+    Lt,
+    Gt,
+    Le,
+    Ge,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+}
+
+impl BinOp {
+    /// The operator as the formatter writes it: `or`, `<>`, `+`, `MOD`.
+    pub fn text(self) -> &'static str {
+        match self {
+            BinOp::Or => "or",
+            BinOp::Xor => "xor",
+            BinOp::And => "and",
+            BinOp::Eq => "=",
+            BinOp::Ne => "<>",
+            BinOp::Lt => "<",
+            BinOp::Gt => ">",
+            BinOp::Le => "<=",
+            BinOp::Ge => ">=",
+            BinOp::Add => "+",
+            BinOp::Sub => "-",
+            BinOp::Mul => "*",
+            BinOp::Div => "/",
+            BinOp::Mod => "MOD",
+        }
+    }
+
+    /// Is it `+ - * / MOD`?
+    pub fn is_arithmetic(self) -> bool {
+        matches!(
+            self,
+            BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Mod
+        )
+    }
+
+    /// Is it a comparison?
+    pub fn is_comparison(self) -> bool {
+        matches!(
+            self,
+            BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Gt | BinOp::Le | BinOp::Ge
+        )
+    }
+}
+
+/// The operator of a [`PrefixExpr`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PrefixOp {
+    /// `not`
+    Not,
+    /// unary `-`
+    Neg,
 }
 
 /// A statement of a test body.
@@ -1250,10 +1388,39 @@ impl Chart {
     pub fn sequencers(&self) -> impl Iterator<Item = Sequencer> + use<> {
         self.body().into_iter().flat_map(|b| children(&b.syntax))
     }
+    /// The `action` members (IEC charts).
+    pub fn actions(&self) -> impl Iterator<Item = ChartAction> + use<> {
+        self.body().into_iter().flat_map(|b| children(&b.syntax))
+    }
+    /// The profile the chart follows: the value of its first `profile` property; PCS 7 when
+    /// there is none or its value is unknown (docs/iec.md §1).
+    pub fn profile(&self) -> Profile {
+        self.props()
+            .find(|p| p.keyword().is_some_and(|k| k.kind() == PROFILE_KW))
+            .and_then(|p| p.value())
+            .and_then(|v| v.token())
+            .map_or(Profile::Pcs7, |t| {
+                if t.text().eq_ignore_ascii_case("iec") {
+                    Profile::Iec
+                } else {
+                    Profile::Pcs7
+                }
+            })
+    }
+}
+
+/// The rules a chart follows (`profile pcs7;`, the default, or `profile iec;`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Profile {
+    /// The PCS 7 SFC rules.
+    #[default]
+    Pcs7,
+    /// IEC 61131-3 Sequential Function Chart (docs/iec.md).
+    Iec,
 }
 
 impl ChartProp {
-    /// `MODE_KW`, `SWITCHING_KW` or `RUN_KW`.
+    /// `MODE_KW`, `SWITCHING_KW`, `RUN_KW` or `PROFILE_KW`.
     pub fn keyword(&self) -> Option<SyntaxToken> {
         first_token(&self.syntax)
     }
@@ -1300,12 +1467,23 @@ macro_rules! conditions_and_statements {
             pub fn assignments(&self) -> impl Iterator<Item = Assignment> + use<> {
                 self.body().into_iter().flat_map(|b| children(&b.syntax))
             }
+            /// The top-level statements of the body, in order.
+            pub fn statements(&self) -> impl Iterator<Item = Stmt> + use<> {
+                self.body().into_iter().flat_map(|b| stmts(&b.syntax))
+            }
         }
     )*};
 }
 
 conditions_and_statements!(
-    StartPart, PrePart, PostPart, StepPhase, ChartTrans, Jump, Loop
+    StartPart,
+    PrePart,
+    PostPart,
+    StepPhase,
+    ChartTrans,
+    Jump,
+    Loop,
+    ChartAction
 );
 
 macro_rules! named_element {
@@ -1321,7 +1499,148 @@ macro_rules! named_element {
     )*};
 }
 
-named_element!(Step, ChartTrans, Jump, Loop);
+named_element!(Step, ChartTrans, Jump, Loop, ChartAction);
+
+impl IfStmt {
+    /// The condition after `IF`.
+    pub fn condition(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+    /// The statements after `THEN`, up to the first `ELSIF`, `ELSE` or `END_IF`.
+    pub fn then_statements(&self) -> impl Iterator<Item = Stmt> + use<> {
+        stmts(&self.syntax)
+    }
+    pub fn elsifs(&self) -> impl Iterator<Item = ElsifClause> + use<> {
+        children(&self.syntax)
+    }
+    pub fn else_clause(&self) -> Option<ElseClause> {
+        child(&self.syntax)
+    }
+    /// The `END_IF` keyword, if written.
+    pub fn end_keyword(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, END_IF_KW)
+    }
+}
+
+impl ElsifClause {
+    pub fn condition(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+    pub fn statements(&self) -> impl Iterator<Item = Stmt> + use<> {
+        stmts(&self.syntax)
+    }
+}
+
+impl ElseClause {
+    pub fn statements(&self) -> impl Iterator<Item = Stmt> + use<> {
+        stmts(&self.syntax)
+    }
+}
+
+impl CaseStmt {
+    /// The expression after `CASE`.
+    pub fn selector(&self) -> Option<Expr> {
+        self.syntax.children().find_map(Expr::cast)
+    }
+    pub fn arms(&self) -> impl Iterator<Item = CaseArm> + use<> {
+        children(&self.syntax)
+    }
+    pub fn else_clause(&self) -> Option<ElseClause> {
+        child(&self.syntax)
+    }
+    /// The `END_CASE` keyword, if written.
+    pub fn end_keyword(&self) -> Option<SyntaxToken> {
+        token(&self.syntax, END_CASE_KW)
+    }
+}
+
+impl CaseArm {
+    pub fn labels(&self) -> impl Iterator<Item = CaseLabel> + use<> {
+        children(&self.syntax)
+    }
+    pub fn statements(&self) -> impl Iterator<Item = Stmt> + use<> {
+        stmts(&self.syntax)
+    }
+}
+
+impl CaseLabel {
+    /// The integers of the label, each with its sign: one, or two for a range.
+    fn bounds(&self) -> Vec<Option<i64>> {
+        let mut bounds = Vec::new();
+        let mut negative = false;
+        for token in self
+            .syntax
+            .children_with_tokens()
+            .filter_map(|e| e.into_token())
+        {
+            match token.kind() {
+                MINUS => negative = true,
+                NUMBER => {
+                    let value = token.text().parse::<i64>().ok();
+                    bounds.push(if negative {
+                        value.and_then(i64::checked_neg)
+                    } else {
+                        value
+                    });
+                    negative = false;
+                }
+                _ => {}
+            }
+        }
+        bounds
+    }
+    /// The value (or the lower bound of a range); `None` if it is not an integer.
+    pub fn low(&self) -> Option<i64> {
+        self.bounds().first().copied().flatten()
+    }
+    /// The upper bound of a range; for a single value, the value itself.
+    pub fn high(&self) -> Option<i64> {
+        self.bounds()
+            .get(1)
+            .or(self.bounds().first())
+            .copied()
+            .flatten()
+    }
+    /// `low..high`?
+    pub fn is_range(&self) -> bool {
+        token(&self.syntax, DOT).is_some()
+    }
+}
+
+impl FbCall {
+    /// The function block instance called.
+    pub fn callee(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+    pub fn args(&self) -> impl Iterator<Item = FbArg> + use<> {
+        children(&self.syntax)
+    }
+}
+
+impl FbArg {
+    /// The formal parameter (`IN`, `Q`).
+    pub fn formal(&self) -> Option<NameRef> {
+        child(&self.syntax)
+    }
+    /// `Q => target` (an output) rather than `IN := value`?
+    pub fn is_output(&self) -> bool {
+        self.syntax.children().any(|n| n.kind() == OUTPUT_OP)
+    }
+    /// The value of an input argument.
+    pub fn value(&self) -> Option<Expr> {
+        if self.is_output() {
+            return None;
+        }
+        self.syntax.children().find_map(Expr::cast)
+    }
+    /// The variable an output argument is read into.
+    pub fn target(&self) -> Option<Path> {
+        if !self.is_output() {
+            return None;
+        }
+        child(&self.syntax)
+    }
+}
 
 impl Jump {
     pub fn target(&self) -> Option<NameRef> {
@@ -1429,6 +1748,34 @@ impl BinExpr {
     pub fn rhs(&self) -> Option<Expr> {
         self.syntax.children().filter_map(Expr::cast).nth(1)
     }
+    /// The operator.
+    pub fn op(&self) -> Option<BinOp> {
+        self.syntax.children_with_tokens().find_map(|e| match e {
+            rowan::NodeOrToken::Node(n) if n.kind() == COMPARE_OP => {
+                Some(match n.text().to_string().as_str() {
+                    "<>" => BinOp::Ne,
+                    "<=" => BinOp::Le,
+                    ">=" => BinOp::Ge,
+                    _ => return None,
+                })
+            }
+            rowan::NodeOrToken::Token(t) => Some(match t.kind() {
+                OR_KW => BinOp::Or,
+                XOR_KW => BinOp::Xor,
+                AND_KW => BinOp::And,
+                EQ => BinOp::Eq,
+                L_ANGLE => BinOp::Lt,
+                R_ANGLE => BinOp::Gt,
+                PLUS => BinOp::Add,
+                MINUS => BinOp::Sub,
+                STAR => BinOp::Mul,
+                SLASH => BinOp::Div,
+                MOD_KW => BinOp::Mod,
+                _ => return None,
+            }),
+            _ => None,
+        })
+    }
     /// The operator as written (`and`, `>=`, `=` ...), lower-cased.
     pub fn op_text(&self) -> Option<String> {
         self.syntax.children_with_tokens().find_map(|e| match e {
@@ -1442,6 +1789,17 @@ impl BinExpr {
 }
 
 impl PrefixExpr {
+    /// `not` or unary `-`.
+    pub fn op(&self) -> Option<PrefixOp> {
+        self.syntax
+            .children_with_tokens()
+            .filter_map(|e| e.into_token())
+            .find_map(|t| match t.kind() {
+                NOT_KW => Some(PrefixOp::Not),
+                MINUS => Some(PrefixOp::Neg),
+                _ => None,
+            })
+    }
     pub fn operand(&self) -> Option<Expr> {
         self.syntax.children().find_map(Expr::cast)
     }
@@ -1832,5 +2190,54 @@ mod tests {
             panic!("restart")
         };
         assert!(restart.is_warm());
+    }
+}
+
+#[cfg(test)]
+mod iec_tests {
+    use super::*;
+
+    fn chart(text: &str) -> Chart {
+        let parse = crate::parse(text);
+        assert!(parse.errors().is_empty(), "{:#?}", parse.errors());
+        match parse.tree().items().next() {
+            Some(Item::Chart(chart)) => chart,
+            _ => panic!("no chart"),
+        }
+    }
+
+    #[test]
+    fn profile_actions_and_iec_qualifiers() {
+        let c = chart(
+            "chart C <\n  profile IEC;\n  action Count \"one part\" < N := TRUE; >\n  \
+             sequencer S < step A < P1 Count; P0 X; DL Y, T#1S; > > >",
+        );
+        assert_eq!(c.profile(), Profile::Iec);
+        let action = c.actions().next().expect("action");
+        assert_eq!(
+            action
+                .name()
+                .map(|n| n.syntax().text().to_string())
+                .as_deref(),
+            Some("Count")
+        );
+        assert!(action.comment().is_some());
+        assert_eq!(action.statements().count(), 1);
+        let step = match c.sequencers().next().and_then(|s| s.elements().next()) {
+            Some(SeqElement::Step(step)) => step,
+            _ => panic!("no step"),
+        };
+        let qualifiers: Vec<_> = step
+            .actions()
+            .filter_map(|a| a.qualifier())
+            .map(|q| q.text().to_owned())
+            .collect();
+        assert_eq!(qualifiers, ["P1", "P0", "DL"]);
+        assert_eq!(chart("chart C < >").profile(), Profile::Pcs7);
+        assert_eq!(chart("chart C < profile pcs7; >").profile(), Profile::Pcs7);
+        assert_eq!(
+            chart("chart C < profile other; profile iec; >").profile(),
+            Profile::Pcs7
+        );
     }
 }

@@ -139,6 +139,17 @@ pub enum SyntaxKind {
     RESTART_KW,
     COLD_KW,
     WARM_KW,
+    PROFILE_KW,
+    ACTION_KW,
+    IF_KW,
+    THEN_KW,
+    ELSIF_KW,
+    ELSE_KW,
+    END_IF_KW,
+    CASE_KW,
+    OF_KW,
+    END_CASE_KW,
+    MOD_KW,
     AND_KW,
     OR_KW,
     XOR_KW,
@@ -247,8 +258,10 @@ pub enum SyntaxKind {
     BLOCK_INTERFACE,
     /// `chart [type] NAME ["comment"] < ... >`
     CHART,
-    /// `mode auto;`, `switching T;`, `run cyclic;`.
+    /// `mode auto;`, `switching T;`, `run cyclic;`, `profile iec;`.
     CHART_PROP,
+    /// `action NAME ["comment"] < statements >` in a chart.
+    CHART_ACTION,
     /// `sequencer NAME [prio N] < ... >`
     SEQUENCER,
     /// `start < conditions >`
@@ -284,9 +297,27 @@ pub enum SyntaxKind {
     CONDITION,
     /// `path := expr;` in a step phase, pre or post.
     ASSIGNMENT,
-    /// `a and b`, `x >= 5.0`.
+    /// `IF c THEN stmts {ELSIF ..} [ELSE ..] END_IF;`
+    IF_STMT,
+    /// `ELSIF c THEN stmts` of an `IF`.
+    ELSIF_CLAUSE,
+    /// `ELSE stmts` of an `IF` or a `CASE`.
+    ELSE_CLAUSE,
+    /// `CASE e OF arms [ELSE ..] END_CASE;`
+    CASE_STMT,
+    /// `1, 3..5: stmts` of a `CASE`.
+    CASE_ARM,
+    /// `3`, `-1`, `3..5` of a case arm.
+    CASE_LABEL,
+    /// `Timer(IN := x, Q => y);`
+    FB_CALL,
+    /// `IN := x` or `Q => y` of a call.
+    FB_ARG,
+    /// `=>`, joined from `=` and `>`, of an output argument.
+    OUTPUT_OP,
+    /// `a and b`, `x >= 5.0`, `a + b`, `a MOD b`.
     BIN_EXPR,
-    /// `not a`.
+    /// `not a`, `-a`.
     PREFIX_EXPR,
     /// `( expr )`.
     PAREN_EXPR,
@@ -343,7 +374,7 @@ impl SyntaxKind {
     }
 
     /// Every contextual keyword with its spelling in lower case, in the order of the enum.
-    pub const KEYWORDS: [(&'static str, SyntaxKind); 64] = [
+    pub const KEYWORDS: [(&'static str, SyntaxKind); 75] = [
         ("mnemonic", MNEMONIC_KW),
         ("simatic", SIMATIC_KW),
         ("international", INTERNATIONAL_KW),
@@ -404,6 +435,17 @@ impl SyntaxKind {
         ("restart", RESTART_KW),
         ("cold", COLD_KW),
         ("warm", WARM_KW),
+        ("profile", PROFILE_KW),
+        ("action", ACTION_KW),
+        ("if", IF_KW),
+        ("then", THEN_KW),
+        ("elsif", ELSIF_KW),
+        ("else", ELSE_KW),
+        ("end_if", END_IF_KW),
+        ("case", CASE_KW),
+        ("of", OF_KW),
+        ("end_case", END_CASE_KW),
+        ("mod", MOD_KW),
         ("and", AND_KW),
         ("or", OR_KW),
         ("xor", XOR_KW),
@@ -419,10 +461,15 @@ impl SyntaxKind {
         let candidates: &[(&str, SyntaxKind)] = match (word.len(), first.to_ascii_lowercase()) {
             (2, b'd') => &[("db", DB_KW)],
             (2, b'f') => &[("fc", FC_KW)],
-            (2, b'i') => &[("in", IN_KW)],
-            (2, b'o') => &[("or", OR_KW)],
+            (2, b'i') => &[("in", IN_KW), ("if", IF_KW)],
+            (2, b'o') => &[("or", OR_KW), ("of", OF_KW)],
             (3, b'a') => &[("any", ANY_KW), ("alt", ALT_KW), ("and", AND_KW)],
-            (3, b'm') => &[("msg", MSG_KW), ("min", MIN_KW), ("max", MAX_KW)],
+            (3, b'm') => &[
+                ("msg", MSG_KW),
+                ("min", MIN_KW),
+                ("max", MAX_KW),
+                ("mod", MOD_KW),
+            ],
             (3, b'n') => &[("not", NOT_KW)],
             (3, b'o') => &[("out", OUT_KW)],
             (3, b'p') => &[("pre", PRE_KW)],
@@ -430,25 +477,33 @@ impl SyntaxKind {
             (3, b's') => &[("set", SET_KW)],
             (3, b'x') => &[("xor", XOR_KW)],
             (4, b'a') => &[("auto", AUTO_KW)],
-            (4, b'c') => &[("cold", COLD_KW)],
+            (4, b'c') => &[("cold", COLD_KW), ("case", CASE_KW)],
+            (4, b'e') => &[("else", ELSE_KW)],
             (4, b'i') => &[("init", INIT_KW)],
             (4, b'j') => &[("jump", JUMP_KW)],
             (4, b'l') => &[("loop", LOOP_KW)],
             (4, b'm') => &[("mode", MODE_KW)],
             (4, b'p') => &[("prio", PRIO_KW), ("post", POST_KW)],
             (4, b's') => &[("stat", STAT_KW), ("step", STEP_KW)],
-            (4, b't') => &[("type", TYPE_KW), ("term", TERM_KW), ("test", TEST_KW)],
+            (4, b't') => &[
+                ("type", TYPE_KW),
+                ("term", TERM_KW),
+                ("test", TEST_KW),
+                ("then", THEN_KW),
+            ],
             (4, b'w') => &[("wait", WAIT_KW), ("warm", WARM_KW)],
             (5, b'b') => &[("block", BLOCK_KW)],
             (5, b'c') => &[("chart", CHART_KW), ("cycle", CYCLE_KW)],
+            (5, b'e') => &[("elsif", ELSIF_KW)],
             (5, b'f') => &[("fault", FAULT_KW)],
             (5, b'g') => &[("graph", GRAPH_KW), ("group", GROUP_KW)],
             (5, b's') => &[("state", STATE_KW), ("start", START_KW)],
             (5, b't') => &[("trans", TRANS_KW)],
             (5, b'u') => &[("until", UNTIL_KW)],
             (5, b'w') => &[("waits", WAITS_KW)],
+            (6, b'a') => &[("action", ACTION_KW)],
             (6, b'b') => &[("branch", BRANCH_KW)],
-            (6, b'e') => &[("expect", EXPECT_KW)],
+            (6, b'e') => &[("expect", EXPECT_KW), ("end_if", END_IF_KW)],
             (6, b'i') => &[("in_out", IN_OUT_KW)],
             (6, b'm') => &[("manual", MANUAL_KW)],
             (6, b'o') => &[("option", OPTION_KW)],
@@ -456,9 +511,11 @@ impl SyntaxKind {
             (6, b'w') => &[("within", WITHIN_KW)],
             (7, b'c') => &[("confirm", CONFIRM_KW), ("command", COMMAND_KW)],
             (7, b'm') => &[("message", MESSAGE_KW)],
+            (7, b'p') => &[("profile", PROFILE_KW)],
             (7, b'r') => &[("restart", RESTART_KW)],
             (7, b's') => &[("simatic", SIMATIC_KW), ("symbols", SYMBOLS_KW)],
             (8, b'a') => &[("activate", ACTIVATE_KW)],
+            (8, b'e') => &[("end_case", END_CASE_KW)],
             (8, b'i') => &[("instance", INSTANCE_KW)],
             (8, b'm') => &[("mnemonic", MNEMONIC_KW)],
             (8, b'p') => &[("parallel", PARALLEL_KW)],

@@ -824,6 +824,7 @@ impl<'t> Parser<'t> {
             (Scope::Sequencer, STEP_KW | TRANS_KW | JUMP_KW | LOOP_KW | SEQUENCER_KW) => named(),
             (Scope::Sequencer, PARALLEL_KW | ALT_KW | BRANCH_KW) => self.nth_opens_body(n + 1),
             (Scope::Chart, SEQUENCER_KW) => named(),
+            (Scope::Chart, ACTION_KW) => self.nth_is_name(n + 1),
             (Scope::Chart, IN_KW | OUT_KW | IN_OUT_KW | STAT_KW) => self.nth_opens_body(n + 1),
             _ => false,
         }

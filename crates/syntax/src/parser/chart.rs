@@ -6,7 +6,9 @@ use std::fmt;
 use super::{Parser, Scope, items, lazy, stl};
 use crate::{SyntaxKind, SyntaxKind::*};
 
-const QUALIFIERS: &[&str] = &["N", "S", "R", "P", "L", "D", "SD", "DS", "SL"];
+const QUALIFIERS: &[&str] = &[
+    "N", "S", "R", "P", "L", "D", "SD", "DS", "SL", "P1", "P0", "DL",
+];
 
 pub(crate) fn chart(p: &mut Parser<'_>) {
     p.start(CHART);
@@ -31,11 +33,17 @@ pub(crate) fn chart(p: &mut Parser<'_>) {
                 items::var_section(p, &[Scope::Chart]);
             } else if p.at_kw(SEQUENCER_KW) {
                 sequencer(p);
-            } else if p.at_kw(MODE_KW) || p.at_kw(SWITCHING_KW) || p.at_kw(RUN_KW) {
+            } else if p.at_member_start(Scope::Chart) && p.at_kw(ACTION_KW) {
+                action(p);
+            } else if p.at_kw(MODE_KW)
+                || p.at_kw(SWITCHING_KW)
+                || p.at_kw(RUN_KW)
+                || p.at_kw(PROFILE_KW)
+            {
                 chart_prop(p);
             } else {
                 p.error_and_recover(
-                    "a chart member ('sequencer', 'mode', 'switching', 'run', a variable section) or '>'",
+                    "a chart member ('sequencer', 'action', 'mode', 'switching', 'run', 'profile', a variable section) or '>'",
                 );
             }
         }
@@ -44,7 +52,24 @@ pub(crate) fn chart(p: &mut Parser<'_>) {
     p.finish_node();
 }
 
-/// `mode auto;`, `switching T;`, `run cyclic;`
+/// `action NAME ["comment"] < statements >`
+fn action(p: &mut Parser<'_>) {
+    p.start(CHART_ACTION);
+    p.bump_keyword();
+    let construct = format!("action {}", p.nth_text(0));
+    if !p.name() {
+        p.error_expected("an action name");
+        if !p.recover_header() {
+            p.finish_node();
+            return;
+        }
+    }
+    p.opt_comment_string();
+    body_of(p, &construct, BodyKind::Statements);
+    p.finish_node();
+}
+
+/// `mode auto;`, `switching T;`, `run cyclic;`, `profile iec;`
 fn chart_prop(p: &mut Parser<'_>) {
     p.start(CHART_PROP);
     let word = p.nth_text(0);
