@@ -1301,7 +1301,7 @@ mod tests {
         assert!(xml.contains("Zyklen(CU := TRUE, R := FALSE, PV := 100, CV =&gt; Anzahl);"));
         assert!(xml.contains("qualifier=\"P1\""));
         assert!(xml.contains("<reference name=\"Zaehlen\"/>"));
-        assert!(xml.contains("Timer.Q AND Anforderung"));
+        assert!(xml.contains("Takt.Q AND Anforderung"));
         assert!(xml.contains("Rot_Gelb_Phase_mit_langem_Namen.T &gt;= T#2s"));
         assert!(xml.contains("NOT Anforderung OR Anzahl MOD 2 = 1"));
         // The cyclic jump: its transition, then the jump step; no divergence.
