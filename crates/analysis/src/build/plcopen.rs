@@ -1436,6 +1436,16 @@ mod tests {
                 vec![("main.higraph".to_owned(), text)],
             ));
         }
+        // Generated IEC charts (the round trip's input), a few seeds.
+        for seed in 0..20 {
+            workspaces.push((
+                format!("iec-generated-{seed}"),
+                vec![(
+                    "main.higraph".to_owned(),
+                    higraph_workload::iec_chart(seed).into_bytes(),
+                )],
+            ));
+        }
         let mut written = 0;
         for (name, files) in workspaces {
             let (xml, errors) = xml(&load_fixture(&files));
