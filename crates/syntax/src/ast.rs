@@ -2240,4 +2240,50 @@ mod iec_tests {
             Profile::Pcs7
         );
     }
+
+    /// The operators of an expression, in prefix notation: `(+ a (* b c))`.
+    fn shape(e: &Expr) -> String {
+        match e {
+            Expr::Bin(b) => format!(
+                "({} {} {})",
+                b.op().map_or("?", BinOp::text),
+                b.lhs().map_or("?".into(), |e| shape(&e)),
+                b.rhs().map_or("?".into(), |e| shape(&e))
+            ),
+            Expr::Prefix(p) => format!(
+                "({:?} {})",
+                p.op().expect("prefix op"),
+                p.operand().map_or("?".into(), |e| shape(&e))
+            ),
+            Expr::Paren(p) => p.expr().map_or("?".into(), |e| shape(&e)),
+            other => other.syntax().text().to_string(),
+        }
+    }
+
+    fn condition_shape(condition: &str) -> String {
+        let c = chart(&format!(
+            "chart C < sequencer S < step A < > trans T < {condition}; > step B < > > >"
+        ));
+        let Some(SeqElement::Trans(t)) = c.sequencers().next().and_then(|s| s.elements().nth(1))
+        else {
+            panic!("no transition")
+        };
+        shape(&t.conditions().next().and_then(|c| c.expr()).expect("expr"))
+    }
+
+    #[test]
+    fn arithmetic_precedence() {
+        for (text, expected) in [
+            ("a + b * c = d", "(= (+ a (* b c)) d)"),
+            ("a - b - c", "(- (- a b) c)"),
+            ("a-1 > -2", "(> (- a 1) -2)"),
+            ("a MOD b / c", "(/ (MOD a b) c)"),
+            ("-a * - b", "(* (Neg a) (Neg b))"),
+            ("not a and b + 1 <> c", "(and (Not a) (<> (+ b 1) c))"),
+            ("- (a + b) < 5 or x", "(or (< (Neg (+ a b)) 5) x)"),
+            ("a mod -5", "(MOD a -5)"),
+        ] {
+            assert_eq!(condition_shape(text), expected, "{text}");
+        }
+    }
 }

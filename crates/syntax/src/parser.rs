@@ -843,7 +843,13 @@ impl<'t> Parser<'t> {
     pub(crate) fn nth_starts_operand(&self, n: usize) -> bool {
         match self.nth(n) {
             IDENT | STRING | NUMBER | TYPED_CONST | CHAR | L_PAREN => true,
-            MINUS => self.nth(n + 1) == NUMBER && self.nth_joined(n + 1),
+            // `-5`, and unary minus: `-x`, `-(a + b)`, `- 5`.
+            MINUS => {
+                matches!(
+                    self.nth(n + 1),
+                    NUMBER | IDENT | TYPED_CONST | STRING | L_PAREN
+                ) && !self.nth_on_new_line(n + 1)
+            }
             _ => false,
         }
     }

@@ -87,6 +87,37 @@ fn nesting_past_the_limit_is_reported_once_and_cut() {
                 &chart("", &format!("x{}", " and x = x".repeat(20_000))),
                 1,
             );
+            // Arithmetic (docs/iec.md §4): unary minus, chains of `+`, `*`, `MOD`, mixed.
+            check_deep(
+                "unary minus",
+                &chart("", &format!("{}x", "- ".repeat(40_000))),
+                1,
+            );
+            check_deep(
+                "minus not",
+                &chart("", &format!("{}x", "-not ".repeat(20_000))),
+                1,
+            );
+            check_deep(
+                "plus chain",
+                &chart("", &format!("x{}", " + x".repeat(40_000))),
+                1,
+            );
+            check_deep(
+                "minus chain",
+                &chart("", &format!("x{}", "-1".repeat(40_000))),
+                1,
+            );
+            check_deep(
+                "mod chain",
+                &chart("", &format!("x{}", " MOD x".repeat(40_000))),
+                1,
+            );
+            check_deep(
+                "mixed arithmetic",
+                &chart("", &format!("x{}", " * x + -(x - x) / x".repeat(20_000))),
+                1,
+            );
             for keyword in ["parallel", "alt"] {
                 let open = format!("{keyword} < branch < ").repeat(5_000);
                 check_deep(
@@ -124,9 +155,20 @@ fn nesting_at_the_limit_is_accepted() {
         0,
     );
     check_deep("not", &chart("", &format!("{}x", "not ".repeat(n))), 0);
+    check_deep("unary minus", &chart("", &format!("{}x", "-".repeat(n))), 0);
     check_deep(
         "or chain",
         &chart("", &format!("x{}", " or x".repeat(n))),
+        0,
+    );
+    check_deep(
+        "plus chain",
+        &chart("", &format!("x{}", " + x".repeat(n))),
+        0,
+    );
+    check_deep(
+        "times chain",
+        &chart("", &format!("x{}", " * x".repeat(n))),
         0,
     );
     let open = "alt < branch < ".repeat(n);
@@ -143,8 +185,23 @@ fn nesting_at_the_limit_is_accepted() {
     );
     check_deep("not", &chart("", &format!("{}x", "not ".repeat(n + 1))), 1);
     check_deep(
+        "unary minus",
+        &chart("", &format!("{}x", "-".repeat(n + 1))),
+        1,
+    );
+    check_deep(
         "or chain",
         &chart("", &format!("x{}", " or x".repeat(n + 1))),
+        1,
+    );
+    check_deep(
+        "plus chain",
+        &chart("", &format!("x{}", " + x".repeat(n + 1))),
+        1,
+    );
+    check_deep(
+        "times chain",
+        &chart("", &format!("x{}", " * x".repeat(n + 1))),
         1,
     );
 }

@@ -412,23 +412,75 @@ pub(crate) fn expr(p: &mut Parser<'_>) -> Option<u32> {
     binary(p, 0)
 }
 
-const LEVELS: [&str; 3] = ["or", "xor", "and"];
+/// The chained binary operator levels, lowest precedence first (docs/iec.md §4). The
+/// comparison (not chained, [`comparison`]) stands between `and` and `+ -`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Level {
+    Or,
+    Xor,
+    And,
+    Additive,
+    Multiplicative,
+}
+
+const LEVELS: [Level; 3] = [Level::Or, Level::Xor, Level::And];
+
+/// Number of tokens of a chained binary operator of `level` here, or 0.
+fn chain_op_len(p: &Parser<'_>, level: Level) -> usize {
+    let at = match level {
+        Level::Or => p.at_kw(OR_KW),
+        Level::Xor => p.at_kw(XOR_KW),
+        Level::And => p.at_kw(AND_KW),
+        // Not the `-` of `->`.
+        Level::Additive => p.at(PLUS) || (p.at(MINUS) && !(p.nth(1) == R_ANGLE && p.nth_joined(1))),
+        // `MOD` only when an operand follows (`x\n mod := 1;` is a new assignment).
+        Level::Multiplicative => {
+            p.at(STAR) || p.at(SLASH) || (p.at_kw(MOD_KW) && p.nth_starts_operand(1))
+        }
+    };
+    usize::from(at)
+}
+
+/// Adds a chain operator to the tree: keywords as their keyword kind, punctuation as lexed.
+fn bump_chain_op(p: &mut Parser<'_>) {
+    if p.at(IDENT) {
+        p.bump_keyword();
+    } else {
+        p.bump();
+    }
+}
 
 fn binary(p: &mut Parser<'_>, level: usize) -> Option<u32> {
     if level == LEVELS.len() {
         return comparison(p);
     }
+    chain(p, LEVELS[level], |p| binary(p, level + 1))
+}
+
+fn arithmetic(p: &mut Parser<'_>, level: Level) -> Option<u32> {
+    match level {
+        Level::Additive => chain(p, level, |p| arithmetic(p, Level::Multiplicative)),
+        _ => chain(p, level, unary),
+    }
+}
+
+/// `operand { op operand }`, left-associative, for the chained operators of `level`.
+fn chain(
+    p: &mut Parser<'_>,
+    level: Level,
+    operand: impl Fn(&mut Parser<'_>) -> Option<u32>,
+) -> Option<u32> {
     let checkpoint = p.checkpoint();
-    let mut height = binary(p, level + 1)?;
-    while p.at_word(LEVELS[level]) {
+    let mut height = operand(p)?;
+    while chain_op_len(p, level) > 0 {
         if !p.fits(height + 1) {
             // The rest of the chain, flat: its operands side by side in one ERROR node.
             p.error_too_deep();
             p.start(ERROR);
             let mut rest = 0;
-            while p.at_word(LEVELS[level]) {
-                p.bump_keyword();
-                match p.nested(|p| binary(p, level + 1)) {
+            while chain_op_len(p, level) > 0 {
+                bump_chain_op(p);
+                match p.nested(&operand) {
                     Some(h) => rest = rest.max(h),
                     None => {
                         p.error_and_recover("an operand");
@@ -440,8 +492,8 @@ fn binary(p: &mut Parser<'_>, level: usize) -> Option<u32> {
             return Some(height.max(rest + 1));
         }
         p.start_at(checkpoint, BIN_EXPR);
-        p.bump_keyword();
-        let Some(right) = p.nested(|p| binary(p, level + 1)) else {
+        bump_chain_op(p);
+        let Some(right) = p.nested(&operand) else {
             p.error_and_recover("an operand");
             p.finish_node();
             return Some(height + 1);
@@ -469,7 +521,7 @@ fn compare_op_len(p: &Parser<'_>) -> usize {
 
 fn comparison(p: &mut Parser<'_>) -> Option<u32> {
     let checkpoint = p.checkpoint();
-    let left = unary(p)?;
+    let left = arithmetic(p, Level::Additive)?;
     let n = compare_op_len(p);
     if n == 0 {
         return Some(left);
@@ -487,7 +539,7 @@ fn comparison(p: &mut Parser<'_>) -> Option<u32> {
     } else {
         p.bump();
     }
-    let right = p.nested(unary);
+    let right = p.nested(|p| arithmetic(p, Level::Additive));
     if right.is_none() {
         p.error_and_recover("an operand");
     }
@@ -500,13 +552,23 @@ fn comparison(p: &mut Parser<'_>) -> Option<u32> {
     })
 }
 
+/// Is a prefix operator here: `not`, or a `-` that is not part of a negative number (`-5`
+/// stays one LITERAL)?
+fn at_prefix_op(p: &Parser<'_>) -> bool {
+    p.at_kw(NOT_KW) || (p.at(MINUS) && stl::literal_len(p) == 0 && !p.at_arrow())
+}
+
 fn unary(p: &mut Parser<'_>) -> Option<u32> {
-    if p.at_kw(NOT_KW) {
+    if at_prefix_op(p) {
         if !p.fits(1) {
             return Some(too_deep_operand(p));
         }
         p.start(PREFIX_EXPR);
-        p.bump_keyword();
+        if p.at(MINUS) {
+            p.bump();
+        } else {
+            p.bump_keyword();
+        }
         let inner = p.nested(unary);
         if inner.is_none() {
             p.error_and_recover("an operand");
@@ -541,13 +603,18 @@ fn primary(p: &mut Parser<'_>) -> Option<u32> {
     chart_operand(p).then_some(0)
 }
 
-/// HG0012 at a `not` or `(` that would nest too deep: the `not`s, then the parenthesised
-/// expression (up to its balancing `)`) or the operand, flat in one ERROR node.
+/// HG0012 at a `not`, unary `-` or `(` that would nest too deep: the prefix operators, then
+/// the parenthesised expression (up to its balancing `)`) or the operand, flat in one ERROR
+/// node.
 fn too_deep_operand(p: &mut Parser<'_>) -> u32 {
     p.error_too_deep();
     p.start(ERROR);
-    while p.at_kw(NOT_KW) {
-        p.bump_keyword();
+    while at_prefix_op(p) {
+        if p.at(MINUS) {
+            p.bump();
+        } else {
+            p.bump_keyword();
+        }
     }
     if p.at(L_PAREN) {
         p.skip_balanced(L_PAREN, R_PAREN);
