@@ -23,6 +23,7 @@ pub mod fixture_workspace;
 pub mod format;
 mod host;
 pub mod ide;
+pub mod iec;
 pub mod index;
 pub mod lang;
 mod line_index;

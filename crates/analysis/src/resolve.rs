@@ -139,6 +139,7 @@ impl GraphScope {
                 ty: decl.ty().and_then(|t| index::declared_type(&t)),
                 decl_range: decl.syntax().text_range(),
                 duplicate: false,
+                fb: None,
             });
         }
     }

@@ -318,7 +318,7 @@ impl Reader<'_, '_> {
                 }
                 name
             }
-            Target::External | Target::Address(None) | Target::Unresolved => text,
+            Target::External | Target::Address(None) | Target::Unresolved | Target::Iec(_) => text,
         })
     }
 

@@ -651,6 +651,32 @@ impl Highlighter<'_> {
                 }
                 None
             }
+            operands::Target::Iec(operands::IecTarget::FbMember { var, member }) => {
+                let mut segments = path.segments();
+                if let (Some(instance), Some(var)) = (segments.next(), scope.vars.get(var)) {
+                    let (kind, modifiers) = variable_class(var.section, None);
+                    self.push_node(instance.syntax(), kind, modifiers);
+                }
+                if let Some(segment) = segments.next() {
+                    let modifier = match member.direction {
+                        crate::iec::Direction::Input => TokenModifier::Input,
+                        crate::iec::Direction::Output => TokenModifier::Output,
+                    };
+                    self.push_node(segment.syntax(), TokenKind::Parameter, modifier.bit());
+                }
+                None
+            }
+            operands::Target::Iec(operands::IecTarget::StepFlag { .. }) => {
+                let mut segments = path.segments();
+                if let Some(step) = segments.next() {
+                    self.push_node(step.syntax(), TokenKind::Step, 0);
+                }
+                if let Some(flag) = segments.next() {
+                    let modifiers = TokenModifier::Readonly.bit();
+                    self.push_node(flag.syntax(), TokenKind::PredefinedVariable, modifiers);
+                }
+                None
+            }
             operands::Target::External | operands::Target::Unresolved => None,
         };
         if let Some((kind, modifiers)) = class {

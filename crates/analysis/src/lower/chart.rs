@@ -120,7 +120,8 @@ impl ChartLowering<'_, '_> {
                 let ty = self.lw.program.cells[cell as usize].ty;
                 (PathKind::Place(Place::Cell(cell)), ty)
             }
-            Target::Address(None) | Target::Unresolved => return None,
+            // The operands of the IEC profile (function block members, step flags).
+            Target::Address(None) | Target::Unresolved | Target::Iec(_) => return None,
         };
         Some(Path { text, ty, kind })
     }

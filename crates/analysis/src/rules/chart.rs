@@ -71,9 +71,11 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
         chart: chart.clone(),
     };
     let vars = decls::declare(ctx, &info);
+    decls::check_fb_types(ctx, &info, &vars);
     let mut scope = Scope::new(info, vars);
     let chart_props = props::check_props(ctx, &scope.chart);
     props::check_sequencers(ctx, &scope.chart);
+    check_actions(ctx, &scope);
     let mut seen = std::collections::HashSet::new();
     for sequencer in chart.sequencers() {
         let later = sequencer
@@ -87,7 +89,92 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
             ctx.out.diags.truncate(reported);
         }
     }
+    exprs::Walker::new(ctx, &mut scope).actions();
     decls::report_unused(ctx, &scope);
+}
+
+/// The chart's actions as declarations: HG7502 for each in a PCS 7 chart, HG7510 for a name
+/// an earlier action or a variable has.
+fn check_actions(ctx: &mut Ctx<'_>, scope: &Scope) {
+    for action in scope.chart.chart.actions() {
+        let Some(token) = action.name().and_then(|n| n.token()) else {
+            continue;
+        };
+        if !scope.iec {
+            let diag = ctx.diag(
+                "HG7502",
+                header_range(action.syntax()),
+                format!("action {} needs 'profile iec;'", token.text()),
+            );
+            let diag = with_profile_fix(ctx, diag, &scope.chart.chart);
+            ctx.push(diag);
+            continue;
+        }
+        let Some(decl) = scope
+            .actions
+            .iter()
+            .find(|a| a.name_range == token.text_range())
+        else {
+            continue;
+        };
+        if !decl.duplicate {
+            continue;
+        }
+        let name = token.text();
+        let earlier_action = scope
+            .actions
+            .iter()
+            .find(|a| !a.duplicate && a.name.eq_ignore_ascii_case(name));
+        let earlier_var = scope.var(name).map(|i| &scope.vars[i]);
+        let (range, what) = match (earlier_var, earlier_action) {
+            (Some(var), _) => (var.name_range, format!("variable {}", var.name)),
+            (None, Some(action)) => (action.name_range, format!("action {}", action.name)),
+            (None, None) => continue,
+        };
+        let diag = ctx
+            .diag(
+                "HG7510",
+                token.text_range(),
+                format!(
+                    "action name '{name}' is already used in chart {}",
+                    scope.chart.name
+                ),
+            )
+            .related(ctx.loc(range), format!("the {what}"));
+        ctx.push(diag);
+    }
+}
+
+/// `diag` with the fix that makes the chart an IEC chart: `profile iec;` after the chart's
+/// `<`, or the value of an existing `profile` property replaced.
+pub(crate) fn with_profile_fix(
+    ctx: &Ctx<'_>,
+    diag: crate::diag::Diag,
+    chart: &ast::Chart,
+) -> crate::diag::Diag {
+    let existing = chart
+        .props()
+        .find(|p| {
+            p.keyword()
+                .is_some_and(|k| k.kind() == SyntaxKind::PROFILE_KW)
+        })
+        .and_then(|p| p.value())
+        .and_then(|v| v.token());
+    if let Some(value) = existing {
+        return diag.fix(
+            "Make the chart an IEC 61131-3 chart",
+            ctx.loc(value.text_range()),
+            "iec",
+        );
+    }
+    let Some(open) = chart.body().and_then(|b| b.l_angle()) else {
+        return diag;
+    };
+    diag.fix(
+        "Make the chart an IEC 61131-3 chart",
+        ctx.loc(TextRange::empty(open.text_range().end())),
+        "\n  profile iec;",
+    )
 }
 
 /// One sequencer: its element tree, names, topology, parts, operands and HG7311.
@@ -104,9 +191,9 @@ fn check_sequencer(
         .and_then(|n| n.token())
         .map(|t| t.text().to_owned());
     if let Some(name) = &name {
-        names::check(ctx, &tree, name);
-        topology::check(ctx, &tree, name, sequencer_header(sequencer));
-        parts::check_sequencer(ctx, sequencer, name);
+        names::check(ctx, &tree, name, scope.iec);
+        topology::check(ctx, &tree, name, sequencer_header(sequencer), scope.iec);
+        parts::check_sequencer(ctx, sequencer, name, scope.iec);
     }
     let chart_name = scope.chart.name.clone();
     let mut walker = exprs::Walker::new(ctx, scope);
@@ -126,7 +213,10 @@ fn check_sequencer(
                 step_writes = walker.step(step, elem.label());
             }
             ast::SeqElement::Trans(_) | ast::SeqElement::Jump(_) | ast::SeqElement::Loop(_) => {
-                parts::check_conditions(walker.ctx, node, &elem.render(), elem.header);
+                if !chart_props.iec {
+                    // HG7205 does not apply to IEC charts (docs/iec.md §2).
+                    parts::check_conditions(walker.ctx, node, &elem.render(), elem.header);
+                }
                 walker.conditions(node);
             }
             ast::SeqElement::Parallel(_) | ast::SeqElement::Alt(_) => {}
@@ -159,17 +249,93 @@ impl ChartInfo {
     }
 }
 
-/// The chart's variables and which of them are used (HG1210).
+impl ChartInfo {
+    /// Does the chart follow the IEC 61131-3 profile (`profile iec;`)?
+    pub fn is_iec(&self) -> bool {
+        self.chart.profile() == ast::Profile::Iec
+    }
+}
+
+/// An `action` of the chart (`docs/iec.md` §6).
+#[derive(Debug, Clone)]
+pub(crate) struct ActionDecl {
+    /// As declared.
+    pub name: String,
+    pub name_range: TextRange,
+    /// A later action of a name an earlier action or a variable has (HG7510): ignored by
+    /// references (C3).
+    pub duplicate: bool,
+}
+
+/// The chart's variables and which of them are used (HG1210); its actions and step names
+/// (IEC charts: qualifier operands naming actions, `Step.X`/`Step.T`).
 pub(crate) struct Scope {
     pub chart: ChartInfo,
     pub vars: Vec<Var>,
     pub used: Vec<bool>,
+    /// `profile iec;`.
+    pub iec: bool,
+    /// The chart's actions in text order (also in a PCS 7 chart, where each is HG7502, so
+    /// that their uses do not cascade).
+    pub actions: Vec<ActionDecl>,
+    /// The names of every step of every sequencer, in text order.
+    pub steps: Vec<String>,
 }
 
 impl Scope {
     pub(crate) fn new(chart: ChartInfo, vars: Vec<Var>) -> Scope {
         let used = vec![false; vars.len()];
-        Scope { chart, vars, used }
+        let iec = chart.is_iec();
+        let mut actions: Vec<ActionDecl> = Vec::new();
+        for action in chart.chart.actions() {
+            let Some(token) = action.name().and_then(|n| n.token()) else {
+                continue;
+            };
+            let name = token.text().to_owned();
+            let duplicate = actions
+                .iter()
+                .any(|a| !a.duplicate && a.name.eq_ignore_ascii_case(&name))
+                || vars
+                    .iter()
+                    .any(|v| !v.duplicate && v.name.eq_ignore_ascii_case(&name));
+            actions.push(ActionDecl {
+                name,
+                name_range: token.text_range(),
+                duplicate,
+            });
+        }
+        let steps = chart
+            .chart
+            .sequencers()
+            .flat_map(|s| {
+                s.syntax()
+                    .descendants()
+                    .filter_map(ast::Step::cast)
+                    .collect::<Vec<_>>()
+            })
+            .filter_map(|s| s.name().and_then(|n| n.token()))
+            .map(|t| t.text().to_owned())
+            .collect();
+        Scope {
+            chart,
+            vars,
+            used,
+            iec,
+            actions,
+            steps,
+        }
+    }
+
+    /// The action of that name (case-insensitive; later duplicates are ignored, C3).
+    pub fn action(&self, name: &str) -> Option<usize> {
+        self.actions
+            .iter()
+            .position(|a| !a.duplicate && a.name.eq_ignore_ascii_case(name))
+    }
+
+    /// Is there a step of that name in the chart?
+    pub fn has_step(&self, name: &str) -> bool {
+        self.steps.iter().any(|s| s.eq_ignore_ascii_case(name))
     }
 
     /// The variable of that name (case-insensitive; duplicates bind to the first, C3).

@@ -61,6 +61,9 @@ pub(crate) struct Var {
     pub decl_range: TextRange,
     /// A later duplicate (HG1201): ignored by references (C3).
     pub duplicate: bool,
+    /// A chart variable of a standard function block type (`docs/iec.md` §3); `ty` is then
+    /// `None`.
+    pub fb: Option<crate::iec::FbType>,
 }
 
 /// The section a `VarSection` opens; `None` if its keyword is missing or unknown.
@@ -152,13 +155,24 @@ pub(crate) fn check_sections(
             ty,
             decl_range: decl.syntax().text_range(),
             duplicate,
+            fb: fb_type(&decl, owner),
         });
     }
     vars
 }
 
+/// The standard function block type of a chart variable (the chart rules report where it
+/// may not stand: HG7502, HG7504).
+fn fb_type(decl: &ast::VarDecl, owner: Owner) -> Option<crate::iec::FbType> {
+    if owner != Owner::Chart {
+        return None;
+    }
+    let name = decl.ty()?.name()?;
+    crate::iec::FbType::from_name(name.text())
+}
+
 /// The declared type, if it is known and valid; HG1215 and HG1213 (when `report`) make it
-/// unknown.
+/// unknown. A standard function block type in a chart is not a data type and no error here.
 fn checked_type(
     ctx: &mut Ctx<'_>,
     decl: &ast::VarDecl,
@@ -169,7 +183,9 @@ fn checked_type(
     let name = type_ref.name()?;
     let interface = owner.interface_types();
     let Some(ty) = Type::from_name(name.text(), interface) else {
-        if report {
+        if report
+            && !(owner == Owner::Chart && crate::iec::FbType::from_name(name.text()).is_some())
+        {
             let mut candidates: Vec<&str> = Type::NAMES.to_vec();
             if interface {
                 candidates.extend_from_slice(INTERFACE_TYPES);

@@ -62,9 +62,28 @@ pub(crate) fn check_group(ctx: &mut Ctx<'_>, group: &ast::Group) {
 }
 
 /// Checks the chart's name, variables, sequencers and sequencer elements.
+///
+/// In an IEC chart (`profile iec;`) the chart's own names (not the chart's name, a workspace
+/// name) reserve the words of `docs/iec.md` §2, and its actions are declared names too (in
+/// the namespace of the chart's variables, HG7510).
 pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
+    let iec = chart.profile() == ast::Profile::Iec;
     check_name(ctx, chart.name(), &Namespace::Global);
-    check_variables(ctx, chart.var_sections(), Namespace::ChartVariable);
+    check_variables_in(ctx, chart.var_sections(), Namespace::ChartVariable, iec);
+    if iec {
+        let names: Vec<String> = chart
+            .var_sections()
+            .flat_map(|s| s.decls())
+            .filter_map(|d| d.name())
+            .chain(chart.actions().filter_map(|a| a.name()))
+            .map(|n| n.text())
+            .collect();
+        let namespace = Namespace::ChartVariable(names);
+        let mut seen = HashSet::new();
+        for action in chart.actions() {
+            check_first_name_in(ctx, action.name(), &namespace, &mut seen, true);
+        }
+    }
     let sequencers: Vec<ast::Sequencer> = chart.sequencers().collect();
     let sequencer_names: Vec<String> = sequencers
         .iter()
@@ -74,14 +93,14 @@ pub(crate) fn check_chart(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
     let namespace = Namespace::Sequencer(sequencer_names);
     let mut seen = HashSet::new();
     for sequencer in &sequencers {
-        if check_first_name(ctx, sequencer.name(), &namespace, &mut seen) {
-            check_sequencer_elements(ctx, sequencer);
+        if check_first_name_in(ctx, sequencer.name(), &namespace, &mut seen, iec) {
+            check_sequencer_elements(ctx, sequencer, iec);
         }
     }
 }
 
 /// Steps, chart transitions, jumps and loops of one sequencer, at every nesting level.
-fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
+fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer, iec: bool) {
     let elements: Vec<ast::SeqElement> = sequencer
         .syntax()
         .descendants()
@@ -112,7 +131,7 @@ fn check_sequencer_elements(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer) {
                 None => continue,
             },
         };
-        check_first_name(ctx, name, ns, seen);
+        check_first_name_in(ctx, name, ns, seen, iec);
     }
 }
 
@@ -149,6 +168,16 @@ fn check_variables(
     sections: impl Iterator<Item = ast::VarSection>,
     namespace: fn(Vec<String>) -> Namespace,
 ) {
+    check_variables_in(ctx, sections, namespace, false);
+}
+
+/// [`check_variables`] with the reserved words of an IEC chart when `iec`.
+fn check_variables_in(
+    ctx: &mut Ctx<'_>,
+    sections: impl Iterator<Item = ast::VarSection>,
+    namespace: fn(Vec<String>) -> Namespace,
+    iec: bool,
+) {
     let decls: Vec<ast::VarDecl> = sections.flat_map(|s| s.decls()).collect();
     let names: Vec<String> = decls
         .iter()
@@ -158,7 +187,7 @@ fn check_variables(
     let namespace = namespace(names);
     let mut seen = HashSet::new();
     for decl in &decls {
-        check_first_name(ctx, decl.name(), &namespace, &mut seen);
+        check_first_name_in(ctx, decl.name(), &namespace, &mut seen, iec);
     }
 }
 
@@ -171,17 +200,34 @@ fn check_first_name(
     ns: &Namespace,
     seen: &mut HashSet<String>,
 ) -> bool {
+    check_first_name_in(ctx, name, ns, seen, false)
+}
+
+/// [`check_first_name`] with the reserved words of an IEC chart when `iec`.
+fn check_first_name_in(
+    ctx: &mut Ctx<'_>,
+    name: Option<ast::Name>,
+    ns: &Namespace,
+    seen: &mut HashSet<String>,
+    iec: bool,
+) -> bool {
     if let Some(name) = &name
         && !seen.insert(crate::index::key(&name.text()))
     {
         return false;
     }
-    check_name(ctx, name, ns);
+    check_name_in(ctx, name, ns, iec);
     true
 }
 
 /// HG1101–HG1103 for one declared name.
 fn check_name(ctx: &mut Ctx<'_>, name: Option<ast::Name>, ns: &Namespace) {
+    check_name_in(ctx, name, ns, false);
+}
+
+/// HG1101–HG1103 for one declared name; `iec`: a name of an IEC chart, where HG1103 reserves
+/// the words of `docs/iec.md` §2 instead of the STL operations.
+fn check_name_in(ctx: &mut Ctx<'_>, name: Option<ast::Name>, ns: &Namespace, iec: bool) {
     let Some(token) = name.and_then(|n| n.token()) else {
         return;
     };
@@ -203,7 +249,12 @@ fn check_name(ctx: &mut Ctx<'_>, name: Option<ast::Name>, ns: &Namespace) {
         let diag = with_rename(ctx, diag, &token, &collapse_underscores(text), ns);
         ctx.push(diag);
     }
-    if let Some(kind) = lang::reserved_kind(text, ctx.mnemonic) {
+    let reserved = if iec {
+        crate::iec::reserved_kind(text)
+    } else {
+        lang::reserved_kind(text, ctx.mnemonic)
+    };
+    if let Some(kind) = reserved {
         let message = format!("'{text}' is reserved ({kind}) and cannot be used as a name");
         let diag = ctx.diag("HG1103", range, message);
         ctx.push(diag);

@@ -232,6 +232,20 @@ impl Tree {
             .find(|&e| !self.elems[e].kind.is_attachment())
     }
 
+    /// The source of a jump that is the first element of an `alt` branch (an IEC branch that
+    /// consists of a jump, `docs/iec.md` §2): the unit before the `alt`.
+    pub fn branch_jump_source(&self, elem: ElemId) -> Option<ElemId> {
+        if self.elems[elem].kind != Kind::Jump {
+            return None;
+        }
+        let list = &self.lists[self.elems[elem].list];
+        let owner = list.owner?;
+        if list.elems.first() != Some(&elem) || self.elems[owner].kind != Kind::Alt {
+            return None;
+        }
+        self.attached_to(owner)
+    }
+
     /// The jumps and loops attached to an element, in text order.
     pub fn attachments(&self, elem: ElemId) -> Vec<ElemId> {
         let list = &self.lists[self.elems[elem].list].elems;

@@ -11,7 +11,8 @@ use super::model::{Kind, Tree};
 use crate::rules::Ctx;
 
 /// Checks the names and comments of every element of one sequencer.
-pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) {
+/// In an IEC chart names may be longer than 16 characters (HG7101 does not apply).
+pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, iec: bool) {
     let mut steps: Vec<(String, TextRange)> = Vec::new();
     let mut transitions: Vec<(String, TextRange)> = Vec::new();
     for elem in &tree.elems {
@@ -24,7 +25,9 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) {
             kind if kind.is_chart_transition() => (&mut transitions, "transition"),
             _ => {
                 check_comment(ctx, &elem.node);
-                check_length(ctx, name, range);
+                if !iec {
+                    check_length(ctx, name, range);
+                }
                 check_digits(ctx, name, range, elem.kind);
                 continue;
             }
@@ -45,7 +48,9 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) {
             ctx.push(diag);
         } else {
             check_comment(ctx, &elem.node);
-            check_length(ctx, name, range);
+            if !iec {
+                check_length(ctx, name, range);
+            }
             check_digits(ctx, name, range, elem.kind);
             space.push((name.clone(), range));
         }

@@ -40,8 +40,24 @@ pub(crate) enum Target {
     Sfc,
     /// Another dotted path: an external reference.
     External,
+    /// What only an IEC chart has (`docs/iec.md` §3, §6).
+    Iec(IecTarget),
     /// Nothing.
     Unresolved,
+}
+
+/// The operands of the IEC profile.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum IecTarget {
+    /// `Inst.M`: a member of a function block instance (the variable's index into
+    /// [`Scope::vars`]). Also in a PCS 7 chart, where the instance is HG7502, so that its uses
+    /// do not cascade.
+    FbMember {
+        var: usize,
+        member: &'static crate::iec::FbMember,
+    },
+    /// `Step.X` (BOOL: the step is active) or `Step.T` (TIME: how long it has been active).
+    StepFlag { step: String, time: bool },
 }
 
 impl Target {
@@ -51,6 +67,10 @@ impl Target {
             Target::Var(i) => scope.vars.get(*i).and_then(|v| v.ty),
             Target::Symbol { ty, .. } => *ty,
             Target::Address(a) => a.as_ref().map(Address::ty),
+            Target::Iec(IecTarget::FbMember { member, .. }) => Some(member.ty),
+            Target::Iec(IecTarget::StepFlag { time, .. }) => {
+                Some(if *time { Type::Time } else { Type::Bool })
+            }
             Target::Sfc | Target::External | Target::Unresolved => None,
         }
     }
@@ -76,6 +96,7 @@ impl Target {
                 },
             ) => s == a,
             (Target::Address(Some(a)), Target::Address(Some(b))) => a == b,
+            (Target::Iec(a @ IecTarget::FbMember { .. }), Target::Iec(b)) => a == b,
             _ => false,
         }
     }
@@ -113,6 +134,9 @@ pub(crate) fn resolve(
     match segments.as_slice() {
         [] => Target::Unresolved,
         [name] => plain_name(ctx, scope, name, path, unresolved, report),
+        [first, second] if iec_path(scope, first, second) => {
+            member_path(ctx, scope, first, second, report)
+        }
         [first, ..] => {
             if first.text().eq_ignore_ascii_case("SFC") {
                 return Target::Sfc;
@@ -121,6 +145,85 @@ pub(crate) fn resolve(
                 external(ctx, scope, path);
             }
             Target::External
+        }
+    }
+}
+
+/// Is `first.second` a member of a function block instance (in any chart) or a step flag (in
+/// an IEC chart)?
+fn iec_path(scope: &Scope, first: &ast::NameRef, second: &ast::NameRef) -> bool {
+    let name = first.text();
+    match scope.var(&name) {
+        Some(i) => scope.vars[i].fb.is_some(),
+        None => {
+            let flag = second.text();
+            scope.iec
+                && scope.has_step(&name)
+                && (flag.eq_ignore_ascii_case("X") || flag.eq_ignore_ascii_case("T"))
+        }
+    }
+}
+
+/// `Inst.M` (HG7505 for an unknown member, in an IEC chart) or `Step.X`/`Step.T`.
+fn member_path(
+    ctx: &mut Ctx<'_>,
+    scope: &mut Scope,
+    first: &ast::NameRef,
+    second: &ast::NameRef,
+    report: bool,
+) -> Target {
+    let (Some(first_token), Some(second_token)) = (first.token(), second.token()) else {
+        return Target::Unresolved;
+    };
+    let name = first_token.text();
+    let Some(i) = scope.var(name) else {
+        let flag = second_token.text();
+        if report {
+            if let Some(step) = scope.steps.iter().find(|s| s.eq_ignore_ascii_case(name)) {
+                resolve::case_hint(ctx, first_token.text_range(), name, &step.clone());
+            }
+        }
+        return Target::Iec(IecTarget::StepFlag {
+            step: name.to_owned(),
+            time: flag.eq_ignore_ascii_case("T"),
+        });
+    };
+    scope.used[i] = true;
+    let Some(fb) = scope.vars[i].fb else {
+        return Target::Unresolved;
+    };
+    let report = report && scope.iec;
+    if report {
+        resolve::case_hint(ctx, first_token.text_range(), name, &scope.vars[i].name);
+    }
+    let member_name = second_token.text();
+    let range = second_token.text_range();
+    match fb.member(member_name) {
+        Some(member) => {
+            if report {
+                resolve::case_hint(ctx, range, member_name, member.name);
+            }
+            Target::Iec(IecTarget::FbMember { var: i, member })
+        }
+        None => {
+            if report {
+                let diag = ctx.diag(
+                    "HG7505",
+                    range,
+                    format!(
+                        "{name} is a {}, which has no member '{member_name}'",
+                        fb.name()
+                    ),
+                );
+                let diag = ctx.with_closest_fix(
+                    diag,
+                    range,
+                    member_name,
+                    fb.members().iter().map(|m| m.name),
+                );
+                ctx.push(diag);
+            }
+            Target::Unresolved
         }
     }
 }

@@ -12,7 +12,13 @@ use super::{body_children, first_token, props::ChartProps, sequencer_header, wit
 use crate::rules::Ctx;
 
 /// HG7209, HG7204, HG7205 and HG7301 for a sequencer's `start`, `pre` and `post` parts.
-pub(crate) fn check_sequencer(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer, name: &str) {
+/// In an IEC chart HG7204, HG7205 and HG7301 do not apply (a `start` part is HG7503 there).
+pub(crate) fn check_sequencer(
+    ctx: &mut Ctx<'_>,
+    sequencer: &ast::Sequencer,
+    name: &str,
+    iec: bool,
+) {
     let parts: Vec<SyntaxNode> = sequencer
         .body()
         .map(|b| {
@@ -28,6 +34,9 @@ pub(crate) fn check_sequencer(ctx: &mut Ctx<'_>, sequencer: &ast::Sequencer, nam
         })
         .unwrap_or_default();
     repeated_parts(ctx, &parts, &format!("sequencer {name}"));
+    if iec {
+        return;
+    }
     for part in &parts {
         match part.kind() {
             SyntaxKind::START_PART => {
@@ -75,7 +84,8 @@ pub(crate) fn check_step(
     repeated_parts(ctx, &items, &format!("step {name}"));
     for item in &items {
         match item.kind() {
-            SyntaxKind::STEP_PHASE => statement_limit(ctx, item, "step", name),
+            SyntaxKind::STEP_PHASE if !props.iec => statement_limit(ctx, item, "step", name),
+            SyntaxKind::STEP_PHASE => {}
             SyntaxKind::CONFIRM => confirm(ctx, item, props, chart),
             _ => {
                 let is_max = first_token(item).is_some_and(|k| k.kind() == SyntaxKind::MAX_KW);
@@ -221,7 +231,7 @@ fn add_time_monitoring(item: &SyntaxNode) -> Option<(TextRange, String)> {
     ))
 }
 
-/// HG7302 (`L D SD DS SL` need a time) and HG7303 (`N S R P` take none). Returns whether the
+/// HG7302 (`L D SD DS SL DL` need a time) and HG7303 (`N S R P P1 P0` take none). Returns whether the
 /// time, if any, belongs there.
 pub(crate) fn check_qualifier_time(
     ctx: &mut Ctx<'_>,
@@ -231,7 +241,7 @@ pub(crate) fn check_qualifier_time(
     time: Option<&ast::Operand>,
 ) -> bool {
     let q = qualifier.text();
-    let needs_time = ["L", "D", "SD", "DS", "SL"]
+    let needs_time = ["L", "D", "SD", "DS", "SL", "DL"]
         .iter()
         .any(|t| t.eq_ignore_ascii_case(q));
     match (needs_time, time) {

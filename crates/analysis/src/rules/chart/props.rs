@@ -20,6 +20,8 @@ pub(crate) struct ChartProps {
     pub switching: Option<String>,
     /// `run time_monitoring;` is set (HG7404).
     pub time_monitoring: bool,
+    /// `profile iec;` (`docs/iec.md`).
+    pub iec: bool,
 }
 
 /// One property as written.
@@ -67,6 +69,7 @@ pub(crate) fn check_props(ctx: &mut Ctx<'_>, info: &ChartInfo) -> ChartProps {
     ChartProps {
         switching: first("switching").map(|p| p.value.clone()),
         time_monitoring: first("run time_monitoring").is_some(),
+        iec: info.is_iec(),
     }
 }
 
@@ -88,6 +91,10 @@ fn read_prop(ctx: &mut Ctx<'_>, prop: &ast::ChartProp) -> Option<Prop> {
                 format!("run {}", value_text.to_ascii_lowercase()),
                 format!("run {value_text}"),
             )
+        }
+        SyntaxKind::PROFILE_KW => {
+            check_profile(ctx, &value_text, value_token.text_range());
+            ("profile".to_owned(), "profile".to_owned())
         }
         _ => return None,
     };
@@ -111,6 +118,21 @@ fn check_run_option(ctx: &mut Ctx<'_>, option: &str, range: TextRange) {
         format!("unknown run option '{option}'; known: cyclic, time_monitoring, autostart"),
     );
     diag = ctx.with_closest_fix(diag, range, option, RUN_OPTIONS);
+    ctx.push(diag);
+}
+
+/// HG7501: `profile` takes only `pcs7` and `iec`.
+fn check_profile(ctx: &mut Ctx<'_>, profile: &str, range: TextRange) {
+    const PROFILES: [&str; 2] = ["pcs7", "iec"];
+    if PROFILES.iter().any(|p| p.eq_ignore_ascii_case(profile)) {
+        return;
+    }
+    let diag = ctx.diag(
+        "HG7501",
+        range,
+        format!("unknown profile '{profile}'; known: pcs7, iec"),
+    );
+    let diag = ctx.with_closest_fix(diag, range, profile, PROFILES);
     ctx.push(diag);
 }
 
@@ -151,10 +173,17 @@ pub(crate) fn check_sequencers(ctx: &mut Ctx<'_>, info: &ChartInfo) {
         }
         return;
     }
-    check_sequencer_limit(ctx, info, &sequencers);
+    let iec = info.is_iec();
+    if iec {
+        iec_sequencers(ctx, &sequencers);
+    } else {
+        check_sequencer_limit(ctx, info, &sequencers);
+    }
     let mut names: Vec<(String, TextRange)> = Vec::new();
     for sequencer in &sequencers {
-        check_prio(ctx, sequencer);
+        if !iec {
+            check_prio(ctx, sequencer);
+        }
         let Some(token) = sequencer.name().and_then(|n| n.token()) else {
             continue;
         };
@@ -178,6 +207,60 @@ pub(crate) fn check_sequencers(ctx: &mut Ctx<'_>, info: &ChartInfo) {
             ctx.push(diag);
         } else {
             names.push((name, token.text_range()));
+        }
+    }
+}
+
+/// HG7503: an IEC chart has one sequencer, without `start` and `prio`.
+fn iec_sequencers(ctx: &mut Ctx<'_>, sequencers: &[ast::Sequencer]) {
+    for (i, sequencer) in sequencers.iter().enumerate() {
+        let name = sequencer.name().map(|n| n.text()).unwrap_or_default();
+        if i > 0 {
+            let diag = ctx
+                .diag(
+                    "HG7503",
+                    header_range(sequencer.syntax()),
+                    format!(
+                        "an IEC chart has one sequencer without 'start' and 'prio'; {name} is a second sequencer"
+                    ),
+                )
+                .related(
+                    ctx.loc(header_range(sequencers[0].syntax())),
+                    "the chart's sequencer",
+                );
+            ctx.push(diag);
+            continue;
+        }
+        if let Some(prio) = sequencer.prio() {
+            let diag = ctx.diag(
+                "HG7503",
+                prio.syntax().text_range(),
+                format!(
+                    "an IEC chart has one sequencer without 'start' and 'prio'; remove the priority of {name}"
+                ),
+            );
+            let diag = diag.fix(
+                "Remove the priority",
+                ctx.loc(prio.syntax().text_range()),
+                "",
+            );
+            ctx.push(diag);
+        }
+        let starts = sequencer
+            .body()
+            .into_iter()
+            .flat_map(|b| b.syntax().children().collect::<Vec<_>>())
+            .filter(|n| n.kind() == SyntaxKind::START_PART);
+        for start in starts {
+            let range = super::first_token(&start).map_or(start.text_range(), |t| t.text_range());
+            let diag = ctx.diag(
+                "HG7503",
+                range,
+                format!(
+                    "an IEC chart has one sequencer without 'start' and 'prio'; {name} runs from the chart's first cycle, so it has no start condition"
+                ),
+            );
+            ctx.push(diag);
         }
     }
 }

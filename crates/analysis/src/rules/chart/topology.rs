@@ -17,12 +17,18 @@ use super::{
 use crate::{resolve, rules::Ctx};
 
 /// Checks the topology of one sequencer.
-pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, header: TextRange) {
+///
+/// In an IEC chart (`docs/iec.md` §2) the sequence may be cyclic: a jump may follow the last
+/// step (no HG7010), an `alt` branch may end with a jump or consist of one (no HG7004, HG7009
+/// for them), an `alt` whose branches all end with a jump may end the sequencer (no HG7001),
+/// and one step is enough (HG7202 only without steps).
+pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, header: TextRange, iec: bool) {
     let step_count = tree.steps().count();
-    check_limits(ctx, tree, sequencer, header, step_count);
-    let mut structural = alternation(ctx, tree, sequencer, step_count >= 2);
-    structural |= branches(ctx, tree);
-    structural |= attachments(ctx, tree, sequencer);
+    check_limits(ctx, tree, sequencer, header, step_count, iec);
+    let enough_steps = step_count >= if iec { 1 } else { 2 };
+    let mut structural = alternation(ctx, tree, sequencer, enough_steps, iec);
+    structural |= branches(ctx, tree, iec);
+    structural |= attachments(ctx, tree, sequencer, iec);
     if !structural {
         reachability(ctx, tree);
     }
@@ -32,8 +38,22 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, header: Tex
 
 /// HG7202 (fewer than 2 steps), HG7201 (more than 255 steps), HG7203 (more than 255 chart
 /// transitions). C5: limits count elements whose header parsed and are reported once.
-fn check_limits(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, header: TextRange, steps: usize) {
-    if steps < 2 {
+fn check_limits(
+    ctx: &mut Ctx<'_>,
+    tree: &Tree,
+    sequencer: &str,
+    header: TextRange,
+    steps: usize,
+    iec: bool,
+) {
+    if iec && steps == 0 {
+        let diag = ctx.diag(
+            "HG7202",
+            header,
+            format!("sequencer {sequencer} has 0 step(s); an initial step is required"),
+        );
+        ctx.push(diag);
+    } else if !iec && steps < 2 {
         let diag = ctx.diag(
             "HG7202",
             header,
@@ -78,7 +98,13 @@ fn check_limits(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, header: TextRan
 
 /// HG7001: (a) two units of the same kind in a row, in any list; (b)/(c) the sequencer does
 /// not begin/end with a plain step (only with at least 2 steps; otherwise HG7202 applies).
-fn alternation(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, enough_steps: bool) -> bool {
+fn alternation(
+    ctx: &mut Ctx<'_>,
+    tree: &Tree,
+    sequencer: &str,
+    enough_steps: bool,
+    iec: bool,
+) -> bool {
     let mut found = false;
     for list in 0..tree.lists.len() {
         for pair in tree.units(list).windows(2) {
@@ -125,6 +151,7 @@ fn alternation(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, enough_steps: bo
     }
     if let Some(&last) = units.last()
         && tree.elems[last].kind != Kind::Step
+        && !(iec && all_branches_jump(tree, last))
     {
         let elem = &tree.elems[last];
         let diag = ctx.diag(
@@ -145,7 +172,7 @@ fn alternation(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, enough_steps: bo
 
 /// HG7002 (fewer than 2 branches), HG7003/HG7004 (branch shapes), HG7005 (unconditioned first
 /// transition of an alternative branch).
-fn branches(ctx: &mut Ctx<'_>, tree: &Tree) -> bool {
+fn branches(ctx: &mut Ctx<'_>, tree: &Tree, iec: bool) -> bool {
     let mut found = false;
     for (id, elem) in tree.elems.iter().enumerate() {
         let parallel = match elem.kind {
@@ -158,6 +185,15 @@ fn branches(ctx: &mut Ctx<'_>, tree: &Tree) -> bool {
             found = true;
         }
         for &branch in &elem.branches {
+            if iec && !parallel && ends_with_jump(tree, branch) {
+                // An IEC alternative branch may end with a jump instead of converging, or be
+                // a single jump; it still begins with a transition (or is that jump).
+                if !tree.units(branch).is_empty() {
+                    found |= branch_begins_with_transition(ctx, tree, branch);
+                    found |= unconditioned_first(ctx, tree, branch);
+                }
+                continue;
+            }
             found |= branch_shape(ctx, tree, branch, parallel);
             if !parallel {
                 found |= unconditioned_first(ctx, tree, branch);
@@ -256,6 +292,54 @@ fn branch_shape(ctx: &mut Ctx<'_>, tree: &Tree, branch: ListId, parallel: bool) 
     true
 }
 
+/// Does the branch's element list end with a jump (attached to its last step, or the
+/// branch's only element)?
+fn ends_with_jump(tree: &Tree, branch: ListId) -> bool {
+    let elems = &tree.lists[branch].elems;
+    match elems.last() {
+        Some(&last) if tree.elems[last].kind == Kind::Jump => {
+            let units = tree.units(branch);
+            match units.last() {
+                // A single jump: the branch is that transition and its jump.
+                None => elems.len() == 1,
+                Some(&unit) => tree.elems[unit].kind == Kind::Step,
+            }
+        }
+        _ => false,
+    }
+}
+
+/// Is `unit` an `alt` each of whose branches ends with a jump (IEC: it may end a sequencer)?
+fn all_branches_jump(tree: &Tree, unit: ElemId) -> bool {
+    let elem = &tree.elems[unit];
+    elem.kind == Kind::Alt
+        && !elem.branches.is_empty()
+        && elem.branches.iter().all(|&b| ends_with_jump(tree, b))
+}
+
+/// HG7004's "begins with" variant alone (IEC branches that end with a jump).
+fn branch_begins_with_transition(ctx: &mut Ctx<'_>, tree: &Tree, branch: ListId) -> bool {
+    let Some(&first) = tree.units(branch).first() else {
+        return false;
+    };
+    if !tree.elems[first].kind.is_step_kind() {
+        return false;
+    }
+    let Some(keyword) = tree.lists[branch].keyword else {
+        return false;
+    };
+    let diag = ctx.diag(
+        "HG7004",
+        keyword,
+        format!(
+            "an alternative branch must begin and end with a transition; this one begins with {}",
+            tree.elems[first].render()
+        ),
+    );
+    ctx.push(diag);
+    true
+}
+
 /// HG7005: the first unit of an alternative branch is a `trans` without conditions.
 fn unconditioned_first(ctx: &mut Ctx<'_>, tree: &Tree, branch: ListId) -> bool {
     let Some(&first) = tree.units(branch).first() else {
@@ -280,7 +364,7 @@ fn unconditioned_first(ctx: &mut Ctx<'_>, tree: &Tree, branch: ListId) -> bool {
 // ------------------------------------------------------------------------------- attachments
 
 /// HG7006–HG7011 for every jump and loop; HG1104 on targets spelled in another case.
-fn attachments(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) -> bool {
+fn attachments(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str, iec: bool) -> bool {
     let mut found = false;
     for (id, elem) in tree.elems.iter().enumerate() {
         if !elem.kind.is_attachment() {
@@ -291,7 +375,11 @@ fn attachments(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) -> bool {
         } else {
             "loop"
         };
-        let source = match tree.attached_to(id) {
+        let attached = match tree.attached_to(id) {
+            None if iec => tree.branch_jump_source(id),
+            other => other,
+        };
+        let source = match attached {
             Some(a) if tree.elems[a].kind == Kind::Step => Some(a),
             _ => {
                 let diag = ctx.diag(
@@ -305,6 +393,7 @@ fn attachments(ctx: &mut Ctx<'_>, tree: &Tree, sequencer: &str) -> bool {
             }
         };
         if let Some(source) = source
+            && !iec
             && elem.list == 0
             && tree.units(0).last() == Some(&source)
         {
@@ -543,7 +632,7 @@ fn flow(tree: &Tree, list: ListId, entry: bool, reached: &mut [bool]) -> bool {
 /// A jump or loop from a reached step activates its target unless it is statically false.
 fn follow_attachment(tree: &Tree, id: ElemId, reached: &mut [bool]) {
     let elem = &tree.elems[id];
-    let Some(source) = tree.attached_to(id) else {
+    let Some(source) = tree.attached_to(id).or_else(|| tree.branch_jump_source(id)) else {
         return;
     };
     if !reached[source] || statically_false(&elem.conditions()) {
