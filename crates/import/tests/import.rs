@@ -1,0 +1,166 @@
+//! Import of the hand-written PLCopen files in `tests/data/plcopen/import/`: the generated
+//! chart texts and the problem reports are insta snapshots; every generated text parses
+//! without syntax diagnostics.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+fn data(name: &str) -> String {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/plcopen/import")
+        .join(name);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The charts and the problems as the command line would report them.
+fn render(name: &str) -> String {
+    let out = higraph_import::import(&data(name)).expect("the file is a PLCopen project");
+    let mut text = String::new();
+    for chart in &out.charts {
+        let _ = writeln!(text, "=== {}.higraph (POU {})", chart.name, chart.pou);
+        text.push_str(&chart.text);
+    }
+    let _ = writeln!(text, "=== problems");
+    for p in &out.problems {
+        let _ = writeln!(text, "{name}:{}: warning: {p}", p.line);
+    }
+    let _ = writeln!(text, "=== skipped POUs without SFC: {:?}", out.skipped);
+    text
+}
+
+/// Every generated chart parses without syntax diagnostics.
+fn assert_parses(name: &str) {
+    let out = higraph_import::import(&data(name)).expect("the file is a PLCopen project");
+    for chart in &out.charts {
+        let parse = higraph_syntax::parse(&chart.text);
+        let errors: Vec<String> = parse
+            .errors()
+            .iter()
+            .map(|e| format!("{}: {} at {:?}", e.code, e.message, e.range))
+            .collect();
+        assert!(
+            errors.is_empty(),
+            "{name}: chart {} has syntax errors:\n{}\n{}",
+            chart.name,
+            errors.join("\n"),
+            chart.text
+        );
+    }
+}
+
+#[test]
+fn neutral_mixer() {
+    insta::assert_snapshot!(render("neutral_mixer.xml"));
+    assert_parses("neutral_mixer.xml");
+}
+
+#[test]
+fn codesys_ampel() {
+    insta::assert_snapshot!(render("codesys_ampel.xml"));
+    assert_parses("codesys_ampel.xml");
+}
+
+#[test]
+fn beremiz_station() {
+    insta::assert_snapshot!(render("beremiz_station.xml"));
+    assert_parses("beremiz_station.xml");
+}
+
+#[test]
+fn unsupported_constructs_are_reported_and_the_rest_imports() {
+    insta::assert_snapshot!(render("unsupported.xml"));
+    assert_parses("unsupported.xml");
+}
+
+#[test]
+fn broken_connections_end_and_are_reported() {
+    insta::assert_snapshot!(render("broken_graph.xml"));
+    assert_parses("broken_graph.xml");
+}
+
+#[test]
+fn documents_that_cannot_be_read() {
+    let e = higraph_import::import(&data("malformed.xml")).unwrap_err();
+    assert_eq!(e.to_string(), "invalid XML at 7:1: unexpected end of stream");
+    let e = higraph_import::import(&data("not_plcopen.xml")).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "not a PLCopen project: the root element is <graph>, not <project>"
+    );
+    assert!(matches!(
+        higraph_import::import("<!DOCTYPE x [<!ENTITY a \"b\">]><project/>"),
+        Err(higraph_import::Error::Xml { .. })
+    ));
+    // A project without SFC POUs imports nothing and says so.
+    let out = higraph_import::import("<project><types><pous/></types></project>").unwrap();
+    assert!(out.charts.is_empty());
+    assert_eq!(out.problems.len(), 1);
+}
+
+/// A long chain and deep nesting: linear time, no stack overflow, a clear problem past the
+/// nesting limit.
+#[test]
+fn huge_and_deep_documents() {
+    // 20 000 steps in a row with a jump back.
+    let n = 20_000;
+    let mut sfc = String::new();
+    for i in 0..n {
+        let step = 2 * i + 1;
+        let trans = 2 * i + 2;
+        let input = if i == 0 {
+            String::new()
+        } else {
+            format!("<connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn>", step - 1)
+        };
+        let initial = if i == 0 { " initialStep=\"true\"" } else { "" };
+        let _ = write!(
+            sfc,
+            "<step localId=\"{step}\" name=\"S{i}\"{initial}>{input}</step>\
+             <transition localId=\"{trans}\"><connectionPointIn><connection refLocalId=\"{step}\"/></connectionPointIn>\
+             <condition><inline name=\"\"><ST><xhtml>x{i}</xhtml></ST></inline></condition></transition>"
+        );
+    }
+    let _ = write!(
+        sfc,
+        "<jumpStep localId=\"{}\" targetName=\"S0\"><connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn></jumpStep>",
+        2 * n + 1,
+        2 * n
+    );
+    let doc = format!(
+        "<project><types><pous><pou name=\"Long\" pouType=\"program\"><body><SFC>{sfc}</SFC></body></pou></pous></types></project>"
+    );
+    let out = higraph_import::import(&doc).unwrap();
+    assert_eq!(out.charts.len(), 1);
+    assert!(out.charts[0].text.contains("jump T20000->S0 < x19999; >"));
+
+    // Selections nested 200 deep: the walk stops at its limit with a problem.
+    let depth = 200;
+    let mut sfc = String::from("<step localId=\"1\" name=\"S\" initialStep=\"true\"/>");
+    let mut prev = 1;
+    let mut id = 2;
+    for _ in 0..depth {
+        let _ = write!(
+            sfc,
+            "<selectionDivergence localId=\"{id}\"><connectionPointIn><connection refLocalId=\"{prev}\"/></connectionPointIn></selectionDivergence>\
+             <transition localId=\"{}\"><connectionPointIn><connection refLocalId=\"{id}\"/></connectionPointIn>\
+             <condition><inline name=\"\"><ST><xhtml>a</xhtml></ST></inline></condition></transition>\
+             <step localId=\"{}\" name=\"S{id}\"><connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn></step>",
+            id + 1,
+            id + 2,
+            id + 1
+        );
+        prev = id + 2;
+        id += 3;
+    }
+    let doc = format!(
+        "<project><types><pous><pou name=\"Deep\" pouType=\"program\"><body><SFC>{sfc}</SFC></body></pou></pous></types></project>"
+    );
+    let out = higraph_import::import(&doc).unwrap();
+    assert!(
+        out.problems
+            .iter()
+            .any(|p| p.message.contains("nested deeper than 64")),
+        "{:?}",
+        out.problems
+    );
+}
