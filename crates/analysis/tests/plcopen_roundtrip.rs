@@ -100,7 +100,6 @@ fn first_difference(a: &str, b: &str) -> String {
     )
 }
 
-#[allow(dead_code)]
 fn same_model(seed: u64, original: &str, imported: &str) {
     let formatted = higraph_analysis::format::format(imported)
         .unwrap_or_else(|e| panic!("seed {seed}: the import does not format: {e:?}\n{imported}"));
@@ -111,4 +110,34 @@ fn same_model(seed: u64, original: &str, imported: &str) {
         "seed {seed}: the models differ, {}\n--- original\n{original}\n--- imported\n{formatted}",
         first_difference(&a, &b)
     );
+}
+
+/// The round trip: build → import → format gives the model of the original.
+#[test]
+fn generated_iec_charts_round_trip() {
+    let mut failures = Vec::new();
+    for seed in 0..charts() {
+        let original = higraph_workload::iec_chart(seed);
+        let xml = build(seed, &original);
+        let import = higraph_import::import(&xml)
+            .unwrap_or_else(|e| panic!("seed {seed}: the import refuses the XML: {e}\n{xml}"));
+        assert!(
+            import.problems.is_empty(),
+            "seed {seed}: import problems: {:?}\n{original}",
+            import.problems.iter().map(ToString::to_string).collect::<Vec<_>>()
+        );
+        assert_eq!(import.charts.len(), 1, "seed {seed}");
+        let imported = &import.charts[0].text;
+        if let Err(e) = std::panic::catch_unwind(|| same_model(seed, &original, imported)) {
+            let message = e
+                .downcast_ref::<String>()
+                .cloned()
+                .unwrap_or_else(|| format!("seed {seed}: failed"));
+            failures.push(message);
+            if failures.len() >= 3 {
+                break;
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
