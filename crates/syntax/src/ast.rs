@@ -2286,4 +2286,58 @@ mod iec_tests {
             assert_eq!(condition_shape(text), expected, "{text}");
         }
     }
+
+    #[test]
+    fn structured_statements() {
+        let c = chart(
+            "chart C < action A <\n  IF a THEN x := 1; ELSIF b THEN y := 2; z := 3; ELSE Timer(IN := a, Q => q); END_IF;\n  \
+             CASE n OF 1, -3..5: x := 1; ELSE END_CASE;\n  x := 0;\n> >",
+        );
+        let action = c.actions().next().expect("action");
+        let stmts: Vec<_> = action.statements().collect();
+        assert_eq!(stmts.len(), 3);
+        assert_eq!(action.assignments().count(), 1);
+        let Stmt::If(if_stmt) = &stmts[0] else {
+            panic!("no IF")
+        };
+        assert_eq!(
+            if_stmt
+                .condition()
+                .map(|e| e.syntax().text().to_string())
+                .as_deref(),
+            Some("a")
+        );
+        assert_eq!(if_stmt.then_statements().count(), 1);
+        let elsifs: Vec<_> = if_stmt.elsifs().collect();
+        assert_eq!(elsifs.len(), 1);
+        assert_eq!(elsifs[0].statements().count(), 2);
+        let else_stmts: Vec<_> = if_stmt.else_clause().expect("ELSE").statements().collect();
+        let [Stmt::Call(call)] = else_stmts.as_slice() else {
+            panic!("no call")
+        };
+        assert_eq!(
+            call.callee()
+                .map(|n| n.syntax().text().to_string())
+                .as_deref(),
+            Some("Timer")
+        );
+        let args: Vec<_> = call.args().collect();
+        assert!(!args[0].is_output() && args[0].value().is_some() && args[0].target().is_none());
+        assert!(args[1].is_output() && args[1].value().is_none() && args[1].target().is_some());
+        let Stmt::Case(case) = &stmts[1] else {
+            panic!("no CASE")
+        };
+        assert!(case.selector().is_some());
+        let labels: Vec<_> = case
+            .arms()
+            .flat_map(|a| a.labels())
+            .map(|l| (l.low(), l.high(), l.is_range()))
+            .collect();
+        assert_eq!(
+            labels,
+            [(Some(1), Some(1), false), (Some(-3), Some(5), true)]
+        );
+        assert_eq!(case.else_clause().map(|e| e.statements().count()), Some(0));
+        assert!(case.end_keyword().is_some());
+    }
 }

@@ -831,11 +831,16 @@ impl<'t> Parser<'t> {
     }
 
     /// Is the `n`th token an identifier that can be a name: any identifier but the operators
-    /// `and`, `or`, `xor`, `not` (reserved words, language.md §7)? After a keyword, such an
-    /// operator makes the keyword a name in an expression (`step and x`).
+    /// `and`, `or`, `xor`, `not` (reserved words, language.md §7) and the IEC words that
+    /// follow an operand (`THEN`, `OF`, `MOD`, docs/iec.md §2)? After a keyword, such a word
+    /// makes the keyword a name in an expression (`step and x`, `IF step THEN`).
     fn nth_is_name(&self, n: usize) -> bool {
         self.nth_token(n).is_some_and(|t| {
-            t.kind == IDENT && !matches!(t.keyword, AND_KW | OR_KW | XOR_KW | NOT_KW)
+            t.kind == IDENT
+                && !matches!(
+                    t.keyword,
+                    AND_KW | OR_KW | XOR_KW | NOT_KW | THEN_KW | OF_KW | MOD_KW
+                )
         })
     }
 
@@ -960,6 +965,11 @@ impl<'t> Parser<'t> {
     /// `:=` written as two adjacent tokens.
     pub(crate) fn at_assign(&self) -> bool {
         self.at(COLON) && self.nth(1) == EQ && self.nth_joined(1)
+    }
+
+    /// `:=` written as two adjacent tokens at the `n`th token.
+    pub(crate) fn nth_is_assign(&self, n: usize) -> bool {
+        self.nth(n) == COLON && self.nth(n + 1) == EQ && self.nth_joined(n + 1)
     }
 
     /// A `:` that is not the start of `:=`.

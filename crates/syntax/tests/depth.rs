@@ -13,6 +13,10 @@ fn chart(elements: &str, condition: &str) -> String {
     )
 }
 
+fn action(statements: &str) -> String {
+    format!("chart C < action A < {statements} > sequencer S < step A < > > >\n")
+}
+
 /// The depth of the deepest node or token (the root is 0), counted without recursion.
 fn tree_depth(root: &SyntaxNode) -> usize {
     let (mut depth, mut deepest) = (0usize, 0usize);
@@ -118,6 +122,52 @@ fn nesting_past_the_limit_is_reported_once_and_cut() {
                 &chart("", &format!("x{}", " * x + -(x - x) / x".repeat(20_000))),
                 1,
             );
+            // Structured statements (docs/iec.md §5): nested IF and CASE, closed and unclosed.
+            check_deep(
+                "nested IF",
+                &action(&format!(
+                    "{}x := 1;{}",
+                    "IF a THEN ".repeat(100_000),
+                    " END_IF;".repeat(100_000)
+                )),
+                1,
+            );
+            let ifs = 20_000;
+            check_deep(
+                "nested ELSE IF",
+                &action(&format!(
+                    "{}x := 1;{}",
+                    "IF a THEN y := 1; ELSE ".repeat(ifs),
+                    " END_IF;".repeat(ifs)
+                )),
+                1,
+            );
+            check_deep(
+                "nested CASE",
+                &action(&format!(
+                    "{}x := 1;{}",
+                    "CASE a OF 1: ".repeat(ifs),
+                    " END_CASE;".repeat(ifs)
+                )),
+                1,
+            );
+            let text = action(&"IF (a) THEN CASE - x OF 1..2: ".repeat(ifs));
+            let unclosed = parse(&text);
+            assert_eq!(unclosed.syntax_node().to_string(), text);
+            assert!((1..=2).contains(&count(&unclosed, ErrorCode::HG0012)));
+            assert!(tree_depth(&unclosed.syntax_node()) <= depth_bound());
+            // An expression inside deep statements: the levels add up.
+            check_deep(
+                "expression in IFs",
+                &action(&format!(
+                    "{}x := {}1{};{}",
+                    "IF a THEN ".repeat(200),
+                    "(".repeat(100),
+                    ")".repeat(100),
+                    " END_IF;".repeat(200)
+                )),
+                1,
+            );
             for keyword in ["parallel", "alt"] {
                 let open = format!("{keyword} < branch < ").repeat(5_000);
                 check_deep(
@@ -170,6 +220,24 @@ fn nesting_at_the_limit_is_accepted() {
         "times chain",
         &chart("", &format!("x{}", " * x".repeat(n))),
         0,
+    );
+    check_deep(
+        "nested IF",
+        &action(&format!(
+            "{}x := 1;{}",
+            "IF a THEN ".repeat(n),
+            " END_IF;".repeat(n)
+        )),
+        0,
+    );
+    check_deep(
+        "nested IF",
+        &action(&format!(
+            "{}x := 1;{}",
+            "IF a THEN ".repeat(n + 1),
+            " END_IF;".repeat(n + 1)
+        )),
+        1,
     );
     let open = "alt < branch < ".repeat(n);
     check_deep(

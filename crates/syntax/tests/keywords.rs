@@ -50,6 +50,18 @@ const CHART_EXPRESSIONS: &[&str] = &[
     "test T <\n  set {NAME_REF}.{NAME_REF} := {NAME_REF};\n  set \"s\".{NAME_REF} := not {NAME_REF};\n  expect {NAME_REF} = {NAME_REF} \"m\";\n  until {NAME_REF}.{NAME_REF} within T#1S;\n  confirm {NAME_REF}.{NAME_REF}.{NAME_REF};\n  expect ({NAME_REF} or {NAME_REF}) and {NAME_REF} > 1;\n>\n",
 ];
 
+/// Positions in IEC statements (docs/iec.md §5): actions, conditions of `IF`, selectors of
+/// `CASE`, calls. Besides the operators, `IF` and `CASE` are left out: at statement start they
+/// begin their statement unless `:=` or `.` follows, so `If(...)` is no call.
+const IEC_STATEMENTS: &[&str] = &[
+    "chart C <\n  profile iec;\n  action {NAME} \"c\" < {NAME_REF} := -{NAME_REF} * 2 MOD {NAME_REF}; >\n  sequencer S <\n    step A <\n      run <\n        IF {NAME_REF} THEN {NAME_REF}.{NAME_REF} := 1;\n        ELSIF {NAME_REF} + 1 > {NAME_REF} THEN {NAME_REF} := {NAME_REF};\n        ELSE {NAME_REF} := 2; END_IF;\n        CASE {NAME_REF} OF 1, 2..3: {NAME_REF} := 2; ELSE {NAME_REF}.{NAME_REF} := 3; END_CASE;\n      >\n      P1 {NAME_REF};\n      DL {NAME_REF}, T#1S;\n    >\n  >\n>\n",
+];
+
+/// The callee of a call: a statement keyword followed by `(` begins its statement.
+const IEC_CALLS: &[&str] = &[
+    "chart C < action A <\n  {NAME_REF}({NAME_REF} := {NAME_REF} - 1, {NAME_REF} => {NAME_REF}.{NAME_REF});\n  X(); > >",
+];
+
 /// Jump labels (`NAME:` at statement start, parsed so that HG4003 can report them). `wait`
 /// and `supervise` at statement start always begin a state item (language.md §1.4).
 const JUMP_LABELS: &[&str] = &["graph G < state 0 < C: {JUMP_LABEL}: U X; > >"];
@@ -144,6 +156,30 @@ fn every_keyword_but_the_operators_is_a_name_in_chart_expressions() {
 }
 
 #[test]
+fn every_keyword_but_the_operators_if_and_case_is_a_name_in_iec_statements() {
+    use SyntaxKind::*;
+    check_all(
+        IEC_STATEMENTS,
+        &[AND_KW, OR_KW, XOR_KW, NOT_KW, IF_KW, CASE_KW],
+    );
+    check_all(
+        IEC_CALLS,
+        &[
+            AND_KW,
+            OR_KW,
+            XOR_KW,
+            NOT_KW,
+            IF_KW,
+            CASE_KW,
+            ELSIF_KW,
+            ELSE_KW,
+            END_IF_KW,
+            END_CASE_KW,
+        ],
+    );
+}
+
+#[test]
 fn every_keyword_but_wait_and_supervise_is_a_jump_label() {
     use SyntaxKind::*;
     check_all(JUMP_LABELS, &[WAIT_KW, SUPERVISE_KW]);
@@ -155,4 +191,7 @@ fn a_keyword_where_the_grammar_wants_it_is_no_name() {
     assert!(check("graph G < {NAME} 0 < > >", "state").is_err());
     assert!(check("graph G < state 0 < C: U X; > {NAME} 0 < > >", "state").is_err());
     assert!(check("test T < {NAME_REF} x; >", "expect").is_err());
+    // `IF` begins a statement unless `:=` or `.` follows.
+    assert!(check("chart C < action A < {NAME_REF}(X := 1); > >", "if").is_err());
+    assert!(check("chart C < action A < {NAME_REF} := 1; > >", "if").is_ok());
 }

@@ -33,7 +33,7 @@ pub(crate) fn chart(p: &mut Parser<'_>) {
                 items::var_section(p, &[Scope::Chart]);
             } else if p.at_kw(SEQUENCER_KW) {
                 sequencer(p);
-            } else if p.at_member_start(Scope::Chart) && p.at_kw(ACTION_KW) {
+            } else if p.at_kw(ACTION_KW) && p.nth(1) == IDENT {
                 action(p);
             } else if p.at_kw(MODE_KW)
                 || p.at_kw(SWITCHING_KW)
@@ -210,7 +210,7 @@ fn body_of(p: &mut Parser<'_>, construct: &dyn fmt::Display, kind: BodyKind) {
         }
         match kind {
             BodyKind::Conditions => condition(p),
-            BodyKind::Statements => assignment(p),
+            BodyKind::Statements => top_statement(p),
             BodyKind::StepItems => step_item(p),
             BodyKind::Branches => {
                 if p.at_kw(BRANCH_KW) && p.nth(1) == L_ANGLE {
@@ -368,6 +368,366 @@ fn condition(p: &mut Parser<'_>) {
         p.expect_semi(&"the condition", at_operand);
     }
     p.finish_node();
+}
+
+/// Is the current identifier the keyword `kw` of a structured statement: spelled like it and
+/// not followed by `:=` or `.` (then it is a variable: `If := TRUE;`, `Case.X := 1;`)?
+fn at_stmt_kw(p: &Parser<'_>, kw: SyntaxKind) -> bool {
+    p.at_kw(kw) && !p.nth_is_assign(1) && p.nth(1) != DOT
+}
+
+/// A keyword that ends a list of statements inside `IF` or `CASE` (`ELSIF`, `ELSE`,
+/// `END_IF`, `END_CASE`), or the start of a case label (a number: no statement begins with
+/// one).
+fn at_stmt_list_end(p: &Parser<'_>) -> bool {
+    [ELSIF_KW, ELSE_KW, END_IF_KW, END_CASE_KW]
+        .iter()
+        .any(|&kw| at_stmt_kw(p, kw))
+        || p.signed_number_len(false) > 0
+}
+
+/// Does the enclosing body end here: a `>` at statement start, the end of the file, an item
+/// or a member keyword of the sequencer or chart (language.md §1.4)?
+fn at_body_end(p: &Parser<'_>) -> bool {
+    p.at(R_ANGLE)
+        || p.at_eof()
+        || p.at_item_start()
+        || p.at_member_start(Scope::Sequencer)
+        || p.at_member_start(Scope::Chart)
+}
+
+/// A statement of a step phase, `pre`, `post` or action body (docs/iec.md §5). A keyword
+/// that only continues an `IF` or `CASE` stands here alone: one HG0001.
+fn top_statement(p: &mut Parser<'_>) {
+    if [ELSIF_KW, ELSE_KW, END_IF_KW, END_CASE_KW]
+        .iter()
+        .any(|&kw| at_stmt_kw(p, kw))
+    {
+        p.error_and_recover("a statement");
+    } else {
+        statement(p);
+    }
+}
+
+/// `assignment | if_stmt | case_stmt | fb_call`.
+fn statement(p: &mut Parser<'_>) {
+    let structured = at_stmt_kw(p, IF_KW) || at_stmt_kw(p, CASE_KW);
+    if structured && !p.fits(1) {
+        too_deep_statement(p);
+    } else if at_stmt_kw(p, IF_KW) {
+        p.nested(if_stmt);
+    } else if at_stmt_kw(p, CASE_KW) {
+        p.nested(case_stmt);
+    } else if p.at(IDENT) && p.nth(1) == L_PAREN {
+        fb_call(p);
+    } else {
+        assignment(p);
+    }
+}
+
+/// Statements up to the end of the enclosing list ([`at_stmt_list_end`], [`at_body_end`]).
+/// In a case arm, also up to `NAME :` (a label that is not an integer constant: no statement
+/// begins so).
+fn statement_list(p: &mut Parser<'_>, in_case: bool) {
+    while !at_stmt_list_end(p)
+        && !at_body_end(p)
+        && !(in_case && p.at(IDENT) && p.nth(1) == COLON && !p.nth_is_assign(1))
+    {
+        statement(p);
+    }
+}
+
+/// HG0012 at an `IF` or `CASE` that would nest too deep: the statement, up to its balancing
+/// `END_IF`/`END_CASE` and `;`, flat in one ERROR node. Stops early at a `>` that closes the
+/// body, the end of the file or an item keyword that starts a line.
+fn too_deep_statement(p: &mut Parser<'_>) {
+    p.error_too_deep();
+    p.start(ERROR);
+    let mut open = 0usize;
+    while !p.at_eof() && !p.r_angle_closes() && !(p.nth_on_new_line(0) && p.at_item_start()) {
+        if at_stmt_kw(p, IF_KW) || at_stmt_kw(p, CASE_KW) {
+            open += 1;
+        } else if at_stmt_kw(p, END_IF_KW) || at_stmt_kw(p, END_CASE_KW) {
+            open = open.saturating_sub(1);
+            if open == 0 {
+                p.bump();
+                if p.at(SEMI) {
+                    p.bump();
+                }
+                break;
+            }
+        }
+        p.bump();
+    }
+    p.finish_node();
+}
+
+/// After an `IF`/`ELSIF` condition or a `CASE` selector: `THEN`/`OF`. When it is missing,
+/// one HG0001; if the keyword follows later on the line, the tokens up to it are skipped.
+fn expect_stmt_kw(p: &mut Parser<'_>, kw: SyntaxKind, text: &str) {
+    if p.at_kw(kw) {
+        p.bump_keyword();
+        return;
+    }
+    p.error_expected(text);
+    // Look a little ahead on this line for the keyword.
+    let ahead = (1..64)
+        .take_while(|&k| !p.nth_on_new_line(k) && !matches!(p.nth(k), SEMI | R_ANGLE | L_ANGLE))
+        .find(|&k| p.nth_is_kw(k, kw));
+    if let Some(k) = ahead {
+        p.start(ERROR);
+        for _ in 0..k {
+            p.bump();
+        }
+        p.finish_node();
+        p.bump_keyword();
+    }
+}
+
+/// `IF c THEN stmts { ELSIF c THEN stmts } [ ELSE stmts ] END_IF ;`
+fn if_stmt(p: &mut Parser<'_>) {
+    p.start(IF_STMT);
+    p.bump_keyword();
+    if condition_expr(p, THEN_KW) {
+        expect_stmt_kw(p, THEN_KW, "'THEN'");
+    }
+    statement_list(p, false);
+    while at_stmt_kw(p, ELSIF_KW) {
+        p.start(ELSIF_CLAUSE);
+        p.bump_keyword();
+        if condition_expr(p, THEN_KW) {
+            expect_stmt_kw(p, THEN_KW, "'THEN'");
+        }
+        statement_list(p, false);
+        p.finish_node();
+    }
+    if at_stmt_kw(p, ELSE_KW) {
+        else_clause(p);
+    }
+    end_stmt(p, END_IF_KW, "'END_IF'");
+    p.finish_node();
+}
+
+/// The condition of `IF`/`ELSIF` or the selector of `CASE`; `false` after an error.
+fn condition_expr(p: &mut Parser<'_>, then: SyntaxKind) -> bool {
+    // `IF THEN`; but `IF Then THEN`, `IF Then + 1 > 2 THEN` (a variable named like the
+    // keyword: what follows continues the expression).
+    let continues = matches!(
+        p.nth(1),
+        PLUS | MINUS | STAR | SLASH | EQ | L_ANGLE | R_ANGLE | DOT
+    ) || [then, AND_KW, OR_KW, XOR_KW, MOD_KW]
+        .iter()
+        .any(|&kw| p.nth_is_kw(1, kw));
+    if p.at_kw(then) && !continues {
+        p.error_expected("an expression");
+        return false;
+    }
+    let recoveries = p.recoveries();
+    if expr(p).is_none() {
+        p.error_expected("an expression");
+        return false;
+    }
+    p.recoveries() == recoveries
+}
+
+/// `ELSE stmts` of an `IF` or a `CASE`.
+fn else_clause(p: &mut Parser<'_>) {
+    p.start(ELSE_CLAUSE);
+    p.bump_keyword();
+    statement_list(p, false);
+    p.finish_node();
+}
+
+/// `END_IF;` / `END_CASE;`: one HG0001 where the keyword is missing (the statements before
+/// it stay in the statement).
+fn end_stmt(p: &mut Parser<'_>, kw: SyntaxKind, text: &'static str) {
+    if at_stmt_kw(p, kw) {
+        p.bump_keyword();
+        p.expect_semi(&text, |p| matches!(p.current(), IDENT | STRING));
+    } else {
+        p.error_expected(text);
+    }
+}
+
+/// `CASE e OF { labels : stmts } [ ELSE stmts ] END_CASE ;`
+fn case_stmt(p: &mut Parser<'_>) {
+    p.start(CASE_STMT);
+    p.bump_keyword();
+    if condition_expr(p, OF_KW) {
+        expect_stmt_kw(p, OF_KW, "'OF'");
+    }
+    loop {
+        if at_body_end(p)
+            || [ELSE_KW, END_IF_KW, END_CASE_KW, ELSIF_KW]
+                .iter()
+                .any(|&kw| at_stmt_kw(p, kw))
+        {
+            break;
+        }
+        case_arm(p);
+    }
+    if at_stmt_kw(p, ELSE_KW) {
+        else_clause(p);
+    }
+    end_stmt(p, END_CASE_KW, "'END_CASE'");
+    p.finish_node();
+}
+
+/// `label { , label } : stmts`. A label that is not an integer constant is one HG0001; the
+/// arm's statements after its `:` are still read.
+fn case_arm(p: &mut Parser<'_>) {
+    p.start(CASE_ARM);
+    let mut labels_ok = true;
+    loop {
+        if !case_label(p) {
+            p.error_expected("a case label (an integer constant or range)");
+            labels_ok = false;
+            break;
+        }
+        if p.at(COMMA) {
+            p.bump();
+        } else {
+            if !p.at_colon() {
+                p.error_expected("',' or ':'");
+                labels_ok = false;
+            }
+            break;
+        }
+    }
+    if !labels_ok {
+        // Skip to the arm's `:` (its statements are still read) or past a `;`.
+        p.start(ERROR);
+        while !p.at_eof() && !p.at_colon() && !p.at(SEMI) && !p.at(R_ANGLE) && !at_stmt_list_end(p)
+        {
+            p.bump();
+        }
+        if p.at(SEMI) {
+            p.bump();
+        }
+        p.finish_node();
+    }
+    if p.at_colon() {
+        p.bump();
+        statement_list(p, true);
+    }
+    p.finish_node();
+}
+
+/// `[-]INT [ .. [-]INT ]` as a CASE_LABEL node.
+fn case_label(p: &mut Parser<'_>) -> bool {
+    let n = p.signed_number_len(true);
+    if n == 0 {
+        return false;
+    }
+    p.start(CASE_LABEL);
+    for _ in 0..n {
+        p.bump();
+    }
+    if p.at(DOT) && p.nth(1) == DOT && p.nth_joined(1) {
+        p.bump();
+        p.bump();
+        let m = p.signed_number_len(true);
+        if m == 0 {
+            p.error_expected("the end of the range (an integer constant)");
+        }
+        for _ in 0..m {
+            p.bump();
+        }
+    }
+    p.finish_node();
+    true
+}
+
+/// `NAME ( [ arg { , arg } ] ) ;` with `arg = NAME := expr | NAME => path`.
+fn fb_call(p: &mut Parser<'_>) {
+    p.start(FB_CALL);
+    let callee = p.nth_text(0);
+    p.bump_node(NAME_REF, 1);
+    p.bump(); // (
+    let mut closed = false;
+    if p.at(R_PAREN) {
+        p.bump();
+        closed = true;
+    } else {
+        loop {
+            if !fb_arg(p) {
+                break;
+            }
+            if p.at(COMMA) {
+                p.bump();
+                continue;
+            }
+            if p.at(R_PAREN) {
+                p.bump();
+                closed = true;
+            } else {
+                p.error_expected("',' or ')'");
+            }
+            break;
+        }
+    }
+    if closed {
+        let element = lazy(|f| write!(f, "the call of '{callee}'"));
+        p.expect_semi(&element, |p| matches!(p.current(), IDENT | STRING));
+    } else {
+        recover_call(p);
+    }
+    p.finish_node();
+}
+
+/// After an error in a call: skips the rest of the call on its line, up to and including its
+/// `)` and `;`.
+fn recover_call(p: &mut Parser<'_>) {
+    let at_stop =
+        |p: &Parser<'_>| p.at_eof() || p.at(SEMI) || p.nth_on_new_line(0) || p.r_angle_closes();
+    if !at_stop(p) {
+        p.start(ERROR);
+        while !at_stop(p) {
+            let close = p.at(R_PAREN);
+            p.bump();
+            if close {
+                break;
+            }
+        }
+        p.finish_node();
+    }
+    if p.at(SEMI) {
+        p.bump();
+    }
+}
+
+/// One argument of a call; `false` after an error (reported).
+fn fb_arg(p: &mut Parser<'_>) -> bool {
+    p.start(FB_ARG);
+    let ok = if !p.at(IDENT) {
+        p.error_expected("a parameter name");
+        false
+    } else {
+        p.bump_node(NAME_REF, 1);
+        if p.at_assign() {
+            p.bump_node(ASSIGN_OP, 2);
+            let recoveries = p.recoveries();
+            if expr(p).is_none() {
+                p.error_expected("an expression");
+                false
+            } else {
+                p.recoveries() == recoveries
+            }
+        } else if p.at(EQ) && p.nth(1) == R_ANGLE && p.nth_joined(1) {
+            p.bump_node(OUTPUT_OP, 2);
+            if path(p) {
+                true
+            } else {
+                p.error_expected("a variable");
+                false
+            }
+        } else {
+            p.error_expected("':=' or '=>'");
+            false
+        }
+    };
+    p.finish_node();
+    ok
 }
 
 /// `path := expr;`
