@@ -3,7 +3,8 @@
 //! formatted result has the semantic model (`model::model_of`) of the original.
 //!
 //! `HIGRAPH_ROUNDTRIP_CHARTS=N` changes the number of charts (default [`CHARTS`]); the seeds
-//! are `0..N`, so a failure names a seed that reproduces it.
+//! are `0..N`, so a failure names a seed that reproduces it. `HIGRAPH_ROUNDTRIP_DUMP=DIR`
+//! writes each chart's original text, XML and imported text into DIR.
 
 use higraph_analysis::build::{BuildOptions, Target};
 use higraph_analysis::fixture_workspace::load_fixture;
@@ -101,8 +102,14 @@ fn first_difference(a: &str, b: &str) -> String {
 }
 
 fn same_model(seed: u64, original: &str, imported: &str) {
-    let formatted = higraph_analysis::format::format(imported)
-        .unwrap_or_else(|e| panic!("seed {seed}: the import does not format: {e:?}\n{imported}"));
+    let formatted = match higraph_analysis::format::format(imported) {
+        Ok(f) => f,
+        Err(e) if std::env::var_os("HIGRAPH_ROUNDTRIP_NO_FORMAT").is_some() => {
+            eprintln!("seed {seed}: the import does not format: {e:?}");
+            imported.to_owned()
+        }
+        Err(e) => panic!("seed {seed}: the import does not format: {e:?}\n{imported}"),
+    };
     let a = model_of(&higraph_syntax::parse(original).syntax_node());
     let b = model_of(&higraph_syntax::parse(&formatted).syntax_node());
     assert!(
@@ -124,10 +131,21 @@ fn generated_iec_charts_round_trip() {
         assert!(
             import.problems.is_empty(),
             "seed {seed}: import problems: {:?}\n{original}",
-            import.problems.iter().map(ToString::to_string).collect::<Vec<_>>()
+            import
+                .problems
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
         );
         assert_eq!(import.charts.len(), 1, "seed {seed}");
         let imported = &import.charts[0].text;
+        if let Some(dir) = std::env::var_os("HIGRAPH_ROUNDTRIP_DUMP") {
+            let dir = std::path::PathBuf::from(dir);
+            let _ = std::fs::create_dir_all(&dir);
+            let _ = std::fs::write(dir.join(format!("{seed}.original.higraph")), &original);
+            let _ = std::fs::write(dir.join(format!("{seed}.xml")), &xml);
+            let _ = std::fs::write(dir.join(format!("{seed}.imported.higraph")), imported);
+        }
         if let Err(e) = std::panic::catch_unwind(|| same_model(seed, &original, imported)) {
             let message = e
                 .downcast_ref::<String>()

@@ -160,12 +160,7 @@ impl Ctx<'_> {
     }
 }
 
-pub fn import_pou(
-    node: Node<'_, '_>,
-    lines: &Lines,
-    chart_names: &mut NameSet,
-    out: &mut Import,
-) {
+pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, out: &mut Import) {
     let pou_name = attr(node, "name").unwrap_or("").to_owned();
     let Some(sfc) = child(node, "body").and_then(|b| child(b, "SFC")) else {
         out.skipped.push(pou_name);
@@ -267,7 +262,12 @@ pub fn import_pou(
     write_elements(&mut text, &body, 2);
     text.push_str("  >\n");
     for a in &actions {
-        write_header(&mut text, 1, &format!("action {}", a.name), a.doc.as_deref());
+        write_header(
+            &mut text,
+            1,
+            &format!("action {}", a.name),
+            a.doc.as_deref(),
+        );
         if a.body.is_empty() {
             text.push_str(" < >\n");
         } else {
@@ -298,7 +298,10 @@ fn string_comment(doc: &str) -> Option<String> {
 
 /// `not x` for a name, `not (...)` for anything longer.
 fn negate(text: &str) -> String {
-    if text.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.') {
+    if text
+        .chars()
+        .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.')
+    {
         format!("not {text}")
     } else {
         format!("not ({text})")
@@ -507,9 +510,7 @@ fn interface(
                     );
                 }
                 section = Section::Stat;
-                st_names
-                    .fb_instances
-                    .insert(name.to_ascii_uppercase(), ());
+                st_names.fb_instances.insert(name.to_ascii_uppercase(), ());
             } else {
                 st_names.elementary.insert(name.to_ascii_uppercase(), ());
             }
@@ -687,10 +688,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                     self.ctx.problem(
                         e,
                         None,
-                        format!(
-                            "<{}> without a valid localId; not imported",
-                            xml::local(e)
-                        ),
+                        format!("<{}> without a valid localId; not imported", xml::local(e)),
                     );
                 }
                 continue;
@@ -737,7 +735,11 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 sorted.sort_unstable();
                 sorted.dedup();
                 let distinct = sorted.len() == pins.len() && !pins.iter().any(|p| p.is_empty());
-                if distinct && pins.len() > 1 { pins } else { Vec::new() }
+                if distinct && pins.len() > 1 {
+                    pins
+                } else {
+                    Vec::new()
+                }
             })
             .collect();
         let mut edges: Vec<(usize, usize, usize)> = Vec::new();
@@ -748,7 +750,8 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 for c in children(cpi, "connection") {
                     let Some(r) = attr(c, "refLocalId").and_then(|v| v.trim().parse::<u64>().ok())
                     else {
-                        self.ctx.problem(c, None, "a connection without a valid refLocalId");
+                        self.ctx
+                            .problem(c, None, "a connection without a valid refLocalId");
                         continue;
                     };
                     match self.ids.get(&r) {
@@ -841,7 +844,10 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             }
             let key = iec.to_ascii_uppercase();
             if name != iec {
-                self.st.renamed.entry(key.clone()).or_insert_with(|| name.clone());
+                self.st
+                    .renamed
+                    .entry(key.clone())
+                    .or_insert_with(|| name.clone());
             }
             self.step_names.entry(key).or_insert_with(|| name.clone());
             self.g[i].name = name;
@@ -903,7 +909,8 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         let mut pending = Vec::new();
         for a in children(list, "action") {
             let Some(iec) = attr(a, "name") else {
-                self.ctx.problem(a, None, "an action without a name; not imported");
+                self.ctx
+                    .problem(a, None, "an action without a name; not imported");
                 continue;
             };
             let element = Some(format!("action {iec}"));
@@ -1006,8 +1013,11 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         let start = match initial.as_slice() {
             [] => {
                 let Some(&first) = steps.first() else {
-                    self.ctx
-                        .problem(self.sfc, None, "the SFC body has no step; the chart is empty");
+                    self.ctx.problem(
+                        self.sfc,
+                        None,
+                        "the SFC body has no step; the chart is empty",
+                    );
                     return Vec::new();
                 };
                 self.ctx.problem(
@@ -1131,11 +1141,8 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                     }
                     let Some(&n) = succ.first() else {
                         let element = self.element(cur);
-                        self.ctx.problem(
-                            self.g[cur].node,
-                            element,
-                            "the transition leads nowhere",
-                        );
+                        self.ctx
+                            .problem(self.g[cur].node, element, "the transition leads nowhere");
                         els.push(El::Trans(t));
                         return (els, Stop::End);
                     };
@@ -1197,7 +1204,9 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 *count.entry(*c).or_default() += 1;
             }
         }
-        let best = count.into_iter().max_by_key(|&(c, n)| (n, usize::MAX - c))?;
+        let best = count
+            .into_iter()
+            .max_by_key(|&(c, n)| (n, usize::MAX - c))?;
         (best.1 >= 2 || stops.len() == 1).then_some(best.0)
     }
 
@@ -1245,7 +1254,9 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             .collect();
         let Some(&k) = open.first() else {
             if matches!(els.last(), Some(El::Step { .. }))
-                && branches.iter().all(|(b, _)| b.len() == 1 && matches!(b[0], El::Jump(..)))
+                && branches
+                    .iter()
+                    .all(|(b, _)| b.len() == 1 && matches!(b[0], El::Jump(..)))
             {
                 // Only jumps after a step: `step S; jump A ...; jump B ...` (text order).
                 for (b, _) in branches {
@@ -1312,7 +1323,10 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 self.ctx.problem(
                     self.g[succ[k]].node,
                     None,
-                    format!("branch {} of a simultaneous divergence does not reach its convergence", k + 1),
+                    format!(
+                        "branch {} of a simultaneous divergence does not reach its convergence",
+                        k + 1
+                    ),
                 );
             }
         }
@@ -1364,8 +1378,15 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         let mut inline_count: HashMap<String, usize> = HashMap::new();
         for b in blocks {
             for a in children(b, "action") {
-                let q_raw = attr(a, "qualifier").unwrap_or("N").trim().to_ascii_uppercase();
-                let q_raw = if q_raw.is_empty() { "N".to_owned() } else { q_raw };
+                let q_raw = attr(a, "qualifier")
+                    .unwrap_or("N")
+                    .trim()
+                    .to_ascii_uppercase();
+                let q_raw = if q_raw.is_empty() {
+                    "N".to_owned()
+                } else {
+                    q_raw
+                };
                 let mut q = q_raw.clone();
                 if !QUALIFIERS.contains(&q.as_str()) {
                     self.ctx.problem(
@@ -1384,7 +1405,9 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                             self.ctx.problem(
                                 a,
                                 element.clone(),
-                                format!("the duration `{d}` is not a time; qualifier {q} imported as N"),
+                                format!(
+                                    "the duration `{d}` is not a time; qualifier {q} imported as N"
+                                ),
                             );
                             q = "N".to_owned();
                         }
@@ -1459,9 +1482,10 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         for o in self.step_outputs.remove(&i).unwrap_or_default() {
             let expr = child(o, "expression").map(xml::text).unwrap_or_default();
             let expr = expr.trim();
-            let path = st::condition(expr, &self.st)
-                .ok()
-                .filter(|p| p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.'));
+            let path = st::condition(expr, &self.st).ok().filter(|p| {
+                p.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '.')
+            });
             match path {
                 Some(p) if attr(o, "negated") != Some("true") => lines.push(format!("N {p};")),
                 _ => self.ctx.problem(
@@ -1518,7 +1542,10 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                     Some(format!("transition {name}")),
                     format!("condition not imported ({reason}); imported as FALSE"),
                 );
-                ("FALSE".to_owned(), Some(format!("condition not imported: {reason}")))
+                (
+                    "FALSE".to_owned(),
+                    Some(format!("condition not imported: {reason}")),
+                )
             }
         };
         Trans {
@@ -1541,8 +1568,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             "inline" => self.st_condition(first_element(inner))?,
             "reference" => {
                 let n = attr(inner, "name").unwrap_or("");
-                let Some(t) = self.named_transitions.get(&n.to_ascii_uppercase()).copied()
-                else {
+                let Some(t) = self.named_transitions.get(&n.to_ascii_uppercase()).copied() else {
                     return Err(format!("the named transition {n} is not in the POU"));
                 };
                 self.st_condition(child(t, "body").and_then(first_element))?

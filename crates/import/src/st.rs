@@ -389,9 +389,35 @@ struct Parser<'a> {
 }
 
 const KEYWORDS: &[&str] = &[
-    "IF", "THEN", "ELSIF", "ELSE", "END_IF", "CASE", "OF", "END_CASE", "FOR", "TO", "BY", "DO",
-    "END_FOR", "WHILE", "END_WHILE", "REPEAT", "UNTIL", "END_REPEAT", "EXIT", "RETURN",
-    "CONTINUE", "JMP", "AND", "OR", "XOR", "NOT", "MOD", "TRUE", "FALSE",
+    "IF",
+    "THEN",
+    "ELSIF",
+    "ELSE",
+    "END_IF",
+    "CASE",
+    "OF",
+    "END_CASE",
+    "FOR",
+    "TO",
+    "BY",
+    "DO",
+    "END_FOR",
+    "WHILE",
+    "END_WHILE",
+    "REPEAT",
+    "UNTIL",
+    "END_REPEAT",
+    "EXIT",
+    "RETURN",
+    "CONTINUE",
+    "JMP",
+    "AND",
+    "OR",
+    "XOR",
+    "NOT",
+    "MOD",
+    "TRUE",
+    "FALSE",
 ];
 
 fn is_keyword(word: &str) -> bool {
@@ -1137,7 +1163,12 @@ mod tests {
         let e = statements("a := 1;\nFOR i := 1 TO 3 DO END_FOR;", &n, 0).unwrap_err();
         assert_eq!(e.line, 2);
         assert!(e.reason.contains("FOR loops"));
-        assert!(statements("Foo(1);", &n, 0).unwrap_err().reason.contains("call of `Foo`"));
+        assert!(
+            statements("Foo(1);", &n, 0)
+                .unwrap_err()
+                .reason
+                .contains("call of `Foo`")
+        );
         assert!(statements("CASE s OF Red: a := 1; END_CASE;", &n, 0).is_err());
     }
 

@@ -81,7 +81,10 @@ fn broken_connections_end_and_are_reported() {
 #[test]
 fn documents_that_cannot_be_read() {
     let e = higraph_import::import(&data("malformed.xml")).unwrap_err();
-    assert_eq!(e.to_string(), "invalid XML at 7:1: unexpected end of stream");
+    assert_eq!(
+        e.to_string(),
+        "invalid XML at 7:1: unexpected end of stream"
+    );
     let e = higraph_import::import(&data("not_plcopen.xml")).unwrap_err();
     assert_eq!(
         e.to_string(),
@@ -110,7 +113,10 @@ fn huge_and_deep_documents() {
         let input = if i == 0 {
             String::new()
         } else {
-            format!("<connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn>", step - 1)
+            format!(
+                "<connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn>",
+                step - 1
+            )
         };
         let initial = if i == 0 { " initialStep=\"true\"" } else { "" };
         let _ = write!(

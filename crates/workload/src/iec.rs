@@ -4,9 +4,15 @@
 //! step, steps and transitions, `alt` branches that converge, end in a `jump` or consist of a
 //! single `jump`, `parallel` branches, an optional cyclic `jump` after the last step; every
 //! qualifier (`N S R P L D SD DS SL P1 P0 DL`, with durations) on BOOL outputs and on named
-//! actions; `init`/`run`/`term` parts and action bodies with assignments, arithmetic
-//! (`+ - * / MOD`, unary `-`), `IF`/`ELSIF`/`ELSE`, `CASE` and calls of standard function
-//! blocks; conditions with `Step.X`, function block outputs and comparisons.
+//! actions; action bodies with assignments, arithmetic (`+ - * / MOD`, unary `-`),
+//! `IF`/`ELSIF`/`ELSE`, `CASE` and calls of standard function blocks; conditions with `Step.X`,
+//! function block outputs and comparisons.
+//!
+//! Step code lives in named actions (after the sequencer, where the import writes them), not in
+//! `init`/`run`/`term` parts: PLCopen has no step parts, the export writes them as inline
+//! `P1`/`N`/`P0` actions and the import reads inline actions back as named actions, so a chart
+//! with step parts does not come back as the same text (`docs/build.md`, IEC charts). With
+//! `phases`, [`iec_chart_with`] writes step parts too (for tests of the checker and export).
 //!
 //! The text is meant to check clean: types match (`INT` with `INT`, `DINT` with `DINT`, no
 //! constant zero divisor), `CASE` labels never overlap, `term` writes only `Last_Step` (which
@@ -46,9 +52,16 @@ const MUL: u8 = 6;
 const UNARY: u8 = 7;
 const ATOM: u8 = 8;
 
-/// The text of one generated IEC chart, named `Gen<seed>`.
+/// The text of one generated IEC chart, named `Gen<seed>`, without step parts.
 pub fn iec_chart(seed: u64) -> String {
+    iec_chart_with(seed, false)
+}
+
+/// [`iec_chart`], with `init`/`run`/`term` parts in some steps when `phases` is set.
+pub fn iec_chart_with(seed: u64, phases: bool) -> String {
     let mut g = Gen {
+        phases,
+        cyclic: false,
         rng: Rng::new(seed ^ 0x1EC6_1131),
         fbs: Vec::new(),
         actions: Vec::new(),
@@ -61,6 +74,10 @@ pub fn iec_chart(seed: u64) -> String {
 }
 
 struct Gen {
+    /// Write `init`/`run`/`term` parts.
+    phases: bool,
+    /// The sequencer ends with jumps.
+    cyclic: bool,
     rng: Rng,
     /// Declared function block instances: (name, type).
     fbs: Vec<(&'static str, &'static str)>,
@@ -99,7 +116,7 @@ impl Gen {
         // Declaration order as in FBS: stable text.
         fbs.sort_by_key(|(name, _)| FBS.iter().position(|(n, _)| n == name));
         self.fbs = fbs;
-        let n_actions = self.rng.range(0, 3);
+        let n_actions = self.rng.range(1, 4);
         self.actions = (1..=n_actions).map(|k| format!("Action_{k}")).collect();
 
         let mut out = String::new();
@@ -119,6 +136,36 @@ impl Gen {
             let _ = writeln!(out, "    {name} : {ty};");
         }
         out.push_str("  >\n");
+        // The first step is declared before anything refers to it.
+        let first = self.step_name();
+        let mut list = vec![El::Step(first.clone())];
+        let mut body_steps = vec![first];
+        let len = self.rng.range(1, 4);
+        self.cyclic = self.rng.percent(60);
+        for k in 0..len {
+            let after_step = matches!(list.last(), Some(El::Step(_)));
+            let targets = body_steps.clone();
+            list.extend(self.trans_kind(0, false, after_step, &targets));
+            // The sequencer ends with a plain step (HG7001).
+            let step = if k + 1 == len {
+                let name = self.step_name();
+                body_steps.push(name.clone());
+                El::Step(name)
+            } else {
+                self.step_kind(0, &mut body_steps)
+            };
+            list.push(step);
+        }
+        // Cyclic: one or two jumps after the last step.
+        if self.cyclic {
+            for _ in 0..self.rng.range(1, 2) {
+                let target = self.rng.pick(&body_steps).clone();
+                list.push(El::Jump(target));
+            }
+        }
+        out.push_str("  sequencer Main <\n");
+        self.list(&list, 2, &mut out);
+        out.push_str("  >\n");
         for name in self.actions.clone() {
             let comment = if self.rng.percent(50) {
                 format!(" \"does {}\"", name.to_ascii_lowercase())
@@ -132,23 +179,7 @@ impl Gen {
             }
             out.push_str("  >\n");
         }
-        // The first step is declared before anything refers to it.
-        let first = self.step_name();
-        let mut list = vec![El::Step(first.clone())];
-        let mut body_steps = vec![first];
-        let len = self.rng.range(1, 4);
-        for _ in 0..len {
-            list.push(self.trans_kind(0, false, &body_steps));
-            let step = self.step_kind(0, &mut body_steps);
-            list.push(step);
-        }
-        if self.rng.percent(60) {
-            let target = self.rng.pick(&body_steps).clone();
-            list.push(El::Jump(target));
-        }
-        out.push_str("  sequencer Main <\n");
-        self.list(&list, 2, &mut out);
-        out.push_str("  >\n>\n");
+        out.push_str(">\n");
         out
     }
 
@@ -172,7 +203,8 @@ impl Gen {
                 .map(|_| {
                     let mut b = vec![El::Step(self.step_name())];
                     if self.rng.percent(40) {
-                        b.push(self.trans_kind(depth + 1, true, &[]));
+                        let after_step = true;
+                        b.extend(self.trans_kind(depth + 1, true, after_step, &[]));
                         b.push(El::Step(self.step_name()));
                     }
                     b
@@ -188,34 +220,73 @@ impl Gen {
         }
     }
 
-    /// A transition, or (shallow) an alt of 2..3 branches. Outside parallels, a branch may end
-    /// with a jump to one of `targets` or be a single jump; at least one branch converges.
-    fn trans_kind(&mut self, depth: usize, in_parallel: bool, targets: &[String]) -> El {
-        if depth >= 2 || !self.rng.percent(25) {
-            return El::Trans(self.trans_name());
+    /// A transition, or (shallow) an alt of 2..3 branches; `after_step`: the element before is a
+    /// plain step. Outside parallels, a branch may end with a jump to one of `targets` or be a
+    /// single jump.
+    ///
+    /// The shapes are those the import writes back (the XML cannot tell the others apart): an
+    /// alt with one branch that continues (all others end in a jump) has no convergence in
+    /// PLCopen, so that branch is a single transition; if it is the first branch, follows a
+    /// plain step and every other branch is a single jump, the chart says it with jumps after
+    /// the step (`step S; jump J -> X < c >; trans T`), which means the same.
+    fn trans_kind(
+        &mut self,
+        depth: usize,
+        in_parallel: bool,
+        after_step: bool,
+        targets: &[String],
+    ) -> Vec<El> {
+        if depth >= 2 || !self.rng.percent(30) {
+            return vec![El::Trans(self.trans_name())];
         }
         let n = self.rng.range(2, 3);
+        // A jump (also as a whole branch) must follow a step (HG7009).
+        let jumps_allowed = !in_parallel && after_step && !targets.is_empty();
+        // Which branches continue: one, or all but some jumps. In a cyclic chart, a single
+        // continuing branch would reach the final jump, and the import keeps all that follows
+        // inside the branch (it means the same): not generated.
+        let single_open = jumps_allowed && !self.cyclic && self.rng.percent(50);
         let open = self.rng.below(n);
-        let branches = (0..n)
-            .map(|i| {
-                let jumps = i != open && !in_parallel && !targets.is_empty();
-                match self.rng.below(4) {
-                    0 if jumps => vec![El::Jump(self.rng.pick(targets).clone())],
-                    1 if jumps => vec![
+        // Otherwise at least two branches converge: with three, one may end in a jump.
+        let jumper = if n == 3 && self.rng.percent(50) {
+            (open + 1 + self.rng.below(2)) % 3
+        } else {
+            n
+        };
+        let mut branches: Vec<Vec<El>> = Vec::with_capacity(n);
+        for i in 0..n {
+            let jumps = jumps_allowed && i != open && (single_open || i == jumper);
+            let branch = if jumps {
+                let target = self.rng.pick(targets).clone();
+                if self.rng.percent(50) {
+                    vec![El::Jump(target)]
+                } else {
+                    vec![
                         El::Trans(self.trans_name()),
                         El::Step(self.step_name()),
-                        El::Jump(self.rng.pick(targets).clone()),
-                    ],
-                    2 => {
-                        let t = El::Trans(self.trans_name());
-                        let s = El::Step(self.step_name());
-                        vec![t, s, El::Trans(self.trans_name())]
-                    }
-                    _ => vec![El::Trans(self.trans_name())],
+                        El::Jump(target),
+                    ]
                 }
-            })
-            .collect();
-        El::Alt(branches)
+            } else if !single_open && self.rng.percent(40) {
+                let t = El::Trans(self.trans_name());
+                let s = El::Step(self.step_name());
+                vec![t, s, El::Trans(self.trans_name())]
+            } else {
+                vec![El::Trans(self.trans_name())]
+            };
+            branches.push(branch);
+        }
+        let others_single_jumps = branches
+            .iter()
+            .enumerate()
+            .all(|(i, b)| i == open || matches!(b.as_slice(), [El::Jump(_)]));
+        if single_open && open == 0 && after_step && others_single_jumps {
+            let normal = branches.remove(0);
+            let mut out: Vec<El> = branches.into_iter().flatten().collect();
+            out.extend(normal);
+            return out;
+        }
+        vec![El::Alt(branches)]
     }
 
     fn trans_name(&mut self) -> String {
@@ -279,7 +350,7 @@ impl Gen {
             String::new()
         };
         let _ = writeln!(out, "step {name}{comment} <");
-        if self.rng.percent(30) {
+        if self.phases && self.rng.percent(30) {
             self.phase("init", level + 1, out);
         }
         // Qualifier actions: each output or action at most once per step.
@@ -301,10 +372,10 @@ impl Gen {
                 let _ = writeln!(out, "{q} {op};");
             }
         }
-        if self.rng.percent(40) {
+        if self.phases && self.rng.percent(40) {
             self.phase("run", level + 1, out);
         }
-        if self.rng.percent(15) {
+        if self.phases && self.rng.percent(15) {
             Self::indent(out, level + 1);
             let _ = writeln!(out, "term < Last_Step := {}; >", self.steps.len());
         }
@@ -579,11 +650,8 @@ impl Gen {
                 };
                 (format!("{lhs} {op} {t}"), CMP)
             }
-            _ => {
-                let (t, p) = self.bool_expr(depth - 1);
-                let _ = p;
-                (format!("({t})"), ATOM)
-            }
+            // Parentheses only where the precedence needs them, as the import writes them.
+            _ => self.bool_expr(depth - 1),
         }
     }
 
@@ -696,17 +764,18 @@ impl Gen {
 
 #[cfg(test)]
 mod tests {
-    use super::iec_chart;
+    use super::{iec_chart, iec_chart_with};
 
     #[test]
     fn deterministic_by_seed() {
         assert_eq!(iec_chart(7), iec_chart(7));
         assert_ne!(iec_chart(7), iec_chart(8));
+        assert!(!iec_chart(7).contains("run <"));
     }
 
     #[test]
     fn covers_the_constructs() {
-        let all: String = (0..300).map(iec_chart).collect();
+        let all: String = (0..300).map(|s| iec_chart_with(s, true)).collect();
         for needle in [
             "profile iec;",
             "alt <",
@@ -721,6 +790,7 @@ mod tests {
             " / ",
             " * ",
             "-(",
+            "(",
             ".X",
             "Timer1(",
             "=> ",

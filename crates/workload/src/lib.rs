@@ -29,7 +29,7 @@ pub mod scaling;
 mod symbols;
 mod workloads;
 
-pub use iec::iec_chart;
+pub use iec::{iec_chart, iec_chart_with};
 pub use workloads::{max_graph, max_group, plant};
 
 /// The message variable of [`max_group`] that every one of its 255 instances refers to.
