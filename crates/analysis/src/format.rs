@@ -738,6 +738,8 @@ const JOINED: &[SyntaxKind] = &[
     COMPARE_OP,
     VAR_REF,
     STATUS_OPERAND,
+    CASE_LABEL,
+    OUTPUT_OP,
 ];
 
 /// Kinds whose tokens keep the spacing of the input (touching or one space), because the
@@ -793,10 +795,27 @@ fn chart_prop_value(token: &SyntaxToken) -> Option<&'static str> {
         .find(|value| value.eq_ignore_ascii_case(token.text()))
 }
 
+/// The keywords of the IEC statements and `MOD`, written in upper case as IEC 61131-3 writes
+/// them (docs/iec.md §5).
+fn is_iec_keyword(kind: SyntaxKind) -> bool {
+    matches!(
+        kind,
+        IF_KW | THEN_KW | ELSIF_KW | ELSE_KW | END_IF_KW | CASE_KW | OF_KW | END_CASE_KW | MOD_KW
+    )
+}
+
+/// A structured statement, always laid out on several lines.
+fn is_structured(kind: SyntaxKind) -> bool {
+    matches!(kind, IF_STMT | CASE_STMT)
+}
+
 /// The text a token is written with.
 fn token_text(token: &SyntaxToken) -> String {
     let text = token.text();
     let kind = token.kind();
+    if is_iec_keyword(kind) {
+        return text.to_ascii_uppercase();
+    }
     if kind.is_keyword() {
         return text.to_ascii_lowercase();
     }
@@ -840,7 +859,15 @@ fn boundary_sep(prev: Option<&Piece>, next: &Piece, next_token: Option<&SyntaxTo
             Sep::Space
         };
     }
-    let in_parens = |parent: SyntaxKind| matches!(parent, PARAM_LIST | PAREN_EXPR);
+    let in_parens = |parent: SyntaxKind| matches!(parent, PARAM_LIST | PAREN_EXPR | FB_CALL);
+    // `Timer(`, `1, 2..3:`, unary minus `-x` (but `- 5` is no negative number `-5`).
+    let unary_minus = prev.kind == MINUS && prev.parent == PREFIX_EXPR && next.kind != NUMBER;
+    if (next.kind == L_PAREN && next.parent == FB_CALL)
+        || (next.kind == COLON && next.parent == CASE_ARM)
+        || unary_minus
+    {
+        return Sep::Join;
+    }
     if next.kind == COMMA
         || (prev.kind == L_PAREN && in_parens(prev.parent))
         || (next.kind == R_PAREN && in_parens(next.parent))
@@ -951,7 +978,9 @@ impl Formatter<'_> {
         let after_punctuation =
             prev.is_some_and(|p| p.parent == OPCODE && matches!(p.kind, PLUS | R_PAREN));
         // A negative number (`state -1`, `prio -1`, `-1->0`) stays one: `- 1` is no number.
-        let negative = token.kind() == NUMBER && prev.is_some_and(|p| p.kind == MINUS);
+        // (Not the binary `-` of `a - 5`.)
+        let negative =
+            token.kind() == NUMBER && prev.is_some_and(|p| p.kind == MINUS && p.parent != BIN_EXPR);
         let touching = piece.token.is_some_and(|i| self.tokens.touching(i));
         if (after_punctuation || negative) && touching && token.kind() != SEMI {
             Sep::Join
@@ -1165,9 +1194,8 @@ impl Formatter<'_> {
                         .iter()
                         .all(|block| block.children().filter(|c| c.kind() == STL_STMT).count() <= 1)
             }
-            START_PART | PRE_PART | POST_PART | STEP_PHASE | CHART_TRANS | JUMP | LOOP => {
-                members.len() == 1
-            }
+            START_PART | PRE_PART | POST_PART | STEP_PHASE | CHART_TRANS | JUMP | LOOP
+            | CHART_ACTION => members.len() == 1 && !is_structured(members[0].kind()),
             STEP => members.len() == 1 && members.iter().all(|m| self.fits_on_one_line(m, indent)),
             VAR_SECTION => INDENT.len() * indent + width(&self.inline(node)) <= MAX_WIDTH,
             _ => false,
@@ -1187,6 +1215,10 @@ impl Formatter<'_> {
     fn layout(&mut self, node: &SyntaxNode, place: Place, indent: usize) {
         if self.cancelled || (self.is_cancelled)() {
             self.cancelled = true;
+            return;
+        }
+        if is_structured(node.kind()) {
+            self.structured(node, place, indent);
             return;
         }
         if self.fits_on_one_line(node, indent) {
@@ -1229,6 +1261,44 @@ impl Formatter<'_> {
         if let Some(close) = &split.close {
             let piece = self.piece(close);
             self.em.piece(Place::close(indent), &piece);
+        }
+    }
+
+    /// An `IF` or `CASE` statement (or one of its clauses or arms) at `place`, its own lines at
+    /// `indent`: the keywords and conditions on lines of their own (`IF c THEN`, `ELSIF c
+    /// THEN`, `ELSE`, `END_IF;`, `CASE e OF`, `1, 2..3:`, `END_CASE;`), the statements one
+    /// level deeper; the arms and the `ELSE` of a `CASE` one level deeper than `CASE`.
+    fn structured(&mut self, node: &SyntaxNode, place: Place, indent: usize) {
+        let mut line: Vec<Piece> = Vec::new();
+        let mut line_place = place;
+        let clause_indent = if node.kind() == CASE_STMT {
+            indent + 1
+        } else {
+            indent
+        };
+        for child in node.children_with_tokens() {
+            match child {
+                NodeOrToken::Token(token) if token.kind().is_trivia() => {}
+                NodeOrToken::Node(child)
+                    if ast::Stmt::can_cast(child.kind())
+                        || matches!(child.kind(), ELSIF_CLAUSE | ELSE_CLAUSE | CASE_ARM) =>
+                {
+                    if !line.is_empty() {
+                        self.em.pieces(line_place, &line);
+                        line.clear();
+                    }
+                    if ast::Stmt::can_cast(child.kind()) {
+                        self.layout(&child, Place::member(indent + 1), indent + 1);
+                    } else {
+                        self.structured(&child, Place::member(clause_indent), clause_indent);
+                    }
+                    line_place = Place::member(indent);
+                }
+                other => self.collect(other, &mut line),
+            }
+        }
+        if !line.is_empty() {
+            self.em.pieces(line_place, &line);
         }
     }
 

@@ -145,10 +145,27 @@ fn body_model(body: Option<ast::Body>, out: &mut String) {
 }
 
 /// Groups, charts and block interfaces: their significant tokens, normalised, one line per
-/// statement-like node.
+/// statement-like node. Statements inside `IF` and `CASE` are indented by their nesting, so
+/// that where a structured statement ends is part of the model.
 fn generic(kind: &str, node: &SyntaxNode, out: &mut String) {
     let _ = writeln!(out, "{kind}");
     for child in node.descendants() {
+        let depth = child
+            .ancestors()
+            .skip(1)
+            .take_while(|a| a != node)
+            .filter(|a| {
+                matches!(
+                    a.kind(),
+                    SyntaxKind::IF_STMT
+                        | SyntaxKind::ELSIF_CLAUSE
+                        | SyntaxKind::ELSE_CLAUSE
+                        | SyntaxKind::CASE_STMT
+                        | SyntaxKind::CASE_ARM
+                )
+            })
+            .count();
+        let indent = "  ".repeat(depth + 1);
         if matches!(
             child.kind(),
             SyntaxKind::OPTION
@@ -160,8 +177,9 @@ fn generic(kind: &str, node: &SyntaxNode, out: &mut String) {
                 | SyntaxKind::QUALIFIER_ACTION
                 | SyntaxKind::STEP_TIME
                 | SyntaxKind::CONFIRM
+                | SyntaxKind::FB_CALL
         ) {
-            let _ = writeln!(out, "  {}", normalised(&child));
+            let _ = writeln!(out, "{indent}{}", normalised(&child));
         } else if matches!(
             child.kind(),
             SyntaxKind::INSTANCE
@@ -177,11 +195,37 @@ fn generic(kind: &str, node: &SyntaxNode, out: &mut String) {
                 | SyntaxKind::START_PART
                 | SyntaxKind::PRE_PART
                 | SyntaxKind::POST_PART
+                | SyntaxKind::CHART_ACTION
         ) {
-            let _ = writeln!(out, "  {:?} {}", child.kind(), header(&child));
+            let _ = writeln!(out, "{indent}{:?} {}", child.kind(), header(&child));
+        } else if matches!(
+            child.kind(),
+            SyntaxKind::IF_STMT
+                | SyntaxKind::ELSIF_CLAUSE
+                | SyntaxKind::ELSE_CLAUSE
+                | SyntaxKind::CASE_STMT
+                | SyntaxKind::CASE_ARM
+        ) {
+            let _ = writeln!(
+                out,
+                "{indent}{:?} {}",
+                child.kind(),
+                structured_header(&child)
+            );
         }
     }
     let _ = writeln!(out, "  header {}", header(node));
+}
+
+/// What an `IF`/`ELSIF` condition, a `CASE` selector or an arm's labels say: the tokens of
+/// the node's own expression and labels, normalised.
+fn structured_header(node: &SyntaxNode) -> String {
+    let parts: Vec<String> = node
+        .children()
+        .filter(|c| ast::Expr::can_cast(c.kind()) || c.kind() == SyntaxKind::CASE_LABEL)
+        .map(|c| normalised(&c))
+        .collect();
+    parts.join(" , ")
 }
 
 /// Tests: the header, then each statement in order (their order is their meaning).

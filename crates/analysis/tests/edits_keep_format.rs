@@ -139,7 +139,19 @@ fn new_names(name: &str) -> (Vec<String>, Vec<String>) {
 }
 
 fn rename_example(example: &str) -> (usize, Vec<String>) {
-    let files = formatted_example(example);
+    rename_files(formatted_example(example))
+}
+
+/// An IEC chart (docs/iec.md: statements, arithmetic, actions), formatted, as a workspace.
+fn formatted_iec_chart() -> Vec<FixtureFile> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../syntax/test_data/parser/ok/iec_chart.higraph");
+    let text = fs::read_to_string(path).expect("IEC fixture");
+    let formatted = format(&text).expect("the IEC fixture formats");
+    vec![("iec.higraph".to_owned(), formatted.into_bytes())]
+}
+
+fn rename_files(files: Vec<FixtureFile>) -> (usize, Vec<String>) {
     let formatted = formatted_paths(&files);
     let host: AnalysisHost = load_fixture(&files);
     let analysis = host.analysis();
@@ -200,7 +212,11 @@ fn renames_keep_formatted_files_formatted() {
         counts.insert(example, renamed);
         problems.extend(found);
     }
+    let (renamed, found) = rename_files(formatted_iec_chart());
+    counts.insert("iec", renamed);
+    problems.extend(found);
     assert!(counts["drilling"] > 40, "too few renames: {counts:?}");
+    assert!(counts["iec"] > 5, "too few renames: {counts:?}");
     assert!(counts["mixer"] > 10, "too few renames: {counts:?}");
     assert!(
         problems.is_empty(),
@@ -243,7 +259,8 @@ fn quick_fixes_keep_formatted_files_formatted() {
     let mut applied = 0;
     let examples = ["drilling", "mixer", "mistakes"]
         .into_iter()
-        .map(|e| (e.to_owned(), formatted_example(e)));
+        .map(|e| (e.to_owned(), formatted_example(e)))
+        .chain([("iec".to_owned(), formatted_iec_chart())]);
     for (name, files) in examples.chain(formatted_fixtures()) {
         let formatted = formatted_paths(&files);
         if formatted.is_empty() {

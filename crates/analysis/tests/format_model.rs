@@ -56,3 +56,60 @@ fn formatting_preserves_the_semantic_model() {
     }
     assert!(checked > 300, "only {checked} files checked");
 }
+
+/// The model of IEC statements (docs/iec.md §5) records their structure: where an `IF`, a
+/// clause or a case arm ends is part of the meaning; layout and keyword case are not.
+#[test]
+fn the_model_sees_the_structure_of_iec_statements() {
+    let model = |body: &str| {
+        let text = format!("chart C < profile iec; action A < {body} > >");
+        let parse = higraph_syntax::parse(&text);
+        assert!(parse.errors().is_empty(), "{body}: {:?}", parse.errors());
+        model_of(&parse.syntax_node())
+    };
+    let same = [
+        ("IF a THEN x := 1; END_IF;", "if a then\n  x := 1;\nend_if;"),
+        ("x := -y * 2 MOD 3;", "x:=- y*2 mod 3;"),
+        (
+            "CASE n OF 1, 2..3: x := 1; ELSE x := 2; END_CASE;",
+            "case n of 1,2 .. 3 : x := 1; else x := 2; end_case;",
+        ),
+        ("T(IN := a, Q => b);", "T ( IN:=a , Q=>b ) ;"),
+    ];
+    for (a, b) in same {
+        assert_eq!(model(a), model(b), "{a} / {b}");
+        let text = format!("chart C < profile iec; action A < {b} > >");
+        let formatted = format(&text).expect("formats");
+        assert_eq!(
+            model_of(&higraph_syntax::parse(&text).syntax_node()),
+            model_of(&higraph_syntax::parse(&formatted).syntax_node()),
+            "{formatted}"
+        );
+    }
+    let different = [
+        (
+            "IF a THEN x := 1; END_IF; y := 2;",
+            "IF a THEN x := 1; y := 2; END_IF;",
+        ),
+        (
+            "IF a THEN x := 1; ELSE y := 2; END_IF;",
+            "IF a THEN x := 1; ELSIF b THEN y := 2; END_IF;",
+        ),
+        (
+            "IF a THEN IF b THEN x := 1; END_IF; y := 2; END_IF;",
+            "IF a THEN IF b THEN x := 1; y := 2; END_IF; END_IF;",
+        ),
+        (
+            "CASE n OF 1: x := 1; 2: y := 2; END_CASE;",
+            "CASE n OF 1: x := 1; y := 2; END_CASE;",
+        ),
+        (
+            "CASE n OF 1, 2: x := 1; END_CASE;",
+            "CASE n OF 1..2: x := 1; END_CASE;",
+        ),
+        ("T(IN := a, Q => b);", "T(IN := a); b := T.Q;"),
+    ];
+    for (a, b) in different {
+        assert_ne!(model(a), model(b), "{a} / {b}");
+    }
+}

@@ -680,6 +680,14 @@ pub enum Expr {
 }
 
 impl Expr {
+    /// Is `kind` the kind of an expression node?
+    pub fn can_cast(kind: SyntaxKind) -> bool {
+        matches!(
+            kind,
+            BIN_EXPR | PREFIX_EXPR | PAREN_EXPR | PATH | LITERAL | TEST_PATH
+        )
+    }
+
     pub fn cast(node: SyntaxNode) -> Option<Expr> {
         Some(match node.kind() {
             BIN_EXPR => Expr::Bin(BinExpr { syntax: node }),
@@ -715,6 +723,11 @@ pub enum Stmt {
 }
 
 impl Stmt {
+    /// Is `kind` the kind of a statement node?
+    pub fn can_cast(kind: SyntaxKind) -> bool {
+        matches!(kind, ASSIGNMENT | IF_STMT | CASE_STMT | FB_CALL)
+    }
+
     pub fn cast(node: SyntaxNode) -> Option<Stmt> {
         Some(match node.kind() {
             ASSIGNMENT => Stmt::Assignment(Assignment { syntax: node }),
