@@ -872,7 +872,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                     names::sanitize(given, "T")
                 };
                 let unique = trans.unique(&name);
-                if unique != name && !(cond.is_some_and(|c| xml::local(c) == "reference")) {
+                if unique != name && cond.is_none_or(|c| xml::local(c) != "reference") {
                     self.ctx.problem(
                         node,
                         Some(format!("transition {given}")),
@@ -1399,9 +1399,11 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 let duration = attr(a, "duration").map(str::trim).filter(|d| !d.is_empty());
                 let mut time = None;
                 if TIMED.contains(&q.as_str()) {
+                    // A time literal or a variable, nothing longer.
+                    let simple = |t: &String| !t.contains([' ', '(']);
                     match duration.map(|d| (d, st::condition(d, &self.st))) {
-                        Some((_, Ok(t))) => time = Some(t),
-                        Some((d, Err(_))) => {
+                        Some((_, Ok(t))) if simple(&t) => time = Some(t),
+                        Some((d, _)) => {
                             self.ctx.problem(
                                 a,
                                 element.clone(),

@@ -16,6 +16,8 @@
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
+use higraph_syntax::literal::check_literal;
+
 /// Deepest nesting of expressions and statements that is converted (the language's parser
 /// accepts 256 levels; this leaves room for the chart around it).
 pub const MAX_DEPTH: usize = 100;
@@ -208,6 +210,7 @@ fn lex(text: &str) -> Result<Vec<Token>, Unsupported> {
             if !number
                 .chars()
                 .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'))
+                || check_literal(&number).is_err()
             {
                 return err(line, format!("the number `{number}`"));
             }
@@ -258,7 +261,11 @@ fn typed_literal(prefix: &str, whole: &str, line: usize) -> Result<Tok, Unsuppor
     let value = &whole[prefix.len() + 1..];
     match upper.as_str() {
         "T" | "TIME" | "D" | "DATE" | "DT" | "DATE_AND_TIME" | "TOD" | "TIME_OF_DAY" => {
-            Ok(Tok::Typed(whole.to_owned()))
+            // Only what the language reads (units in order, values in range).
+            match check_literal(whole) {
+                Ok(_) => Ok(Tok::Typed(whole.to_owned())),
+                Err(e) => err(line, format!("the literal `{whole}` ({})", e.message)),
+            }
         }
         "INT" | "SINT" | "DINT" | "REAL" | "LREAL" | "UINT" | "USINT" | "UDINT" => {
             if value.contains('#') {

@@ -170,3 +170,129 @@ fn huge_and_deep_documents() {
         out.problems
     );
 }
+
+/// Random damage to the test files (bytes deleted, duplicated, swapped; ST keywords
+/// sprinkled in): the import never panics, and every chart it writes parses cleanly.
+#[test]
+fn damaged_files_never_panic() {
+    let files = [
+        "neutral_mixer.xml",
+        "codesys_ampel.xml",
+        "beremiz_station.xml",
+        "unsupported.xml",
+        "broken_graph.xml",
+    ];
+    let words = [
+        "IF ",
+        "END_IF",
+        "CASE ",
+        "(*",
+        "*)",
+        "'",
+        "\"",
+        "<",
+        ">",
+        "&amp;",
+        "(",
+        ")",
+        ":=",
+        "..",
+        "T#",
+        "16#",
+        ";",
+        ".",
+        "NOT ",
+        "-",
+        "<step localId=\"3\"/>",
+        "refLocalId=\"1\"",
+    ];
+    let mut seed: u64 = std::env::var("IMPORT_FUZZ_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0x9E37_79B9_7F4A_7C15);
+    let mut next = |n: usize| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % n.max(1) as u64) as usize
+    };
+    for round in 0..1000 {
+        let mut text = data(files[round % files.len()]).into_bytes();
+        for _ in 0..1 + next(8) {
+            let at = next(text.len());
+            match next(4) {
+                0 => {
+                    let len = next(40).min(text.len() - at);
+                    text.drain(at..at + len);
+                }
+                1 => {
+                    let len = next(60).min(text.len() - at);
+                    let piece: Vec<u8> = text[at..at + len].to_vec();
+                    let to = next(text.len());
+                    text.splice(to..to, piece);
+                }
+                2 => {
+                    let w = words[next(words.len())].as_bytes();
+                    text.splice(at..at, w.iter().copied());
+                }
+                _ => {
+                    let other = next(text.len());
+                    text.swap(at, other);
+                }
+            }
+        }
+        let text = String::from_utf8_lossy(&text);
+        if let Ok(out) = higraph_import::import(&text) {
+            for chart in &out.charts {
+                assert!(chart.text.ends_with(">\n"));
+                assert!(!chart.text.contains("<?xml"));
+                let errors = higraph_syntax::parse(&chart.text).errors().len();
+                assert_eq!(errors, 0, "round {round}: syntax errors in\n{}", chart.text);
+            }
+        }
+    }
+}
+
+/// Random structured text: whatever the converter accepts parses cleanly as an action body
+/// and as a transition condition.
+#[test]
+fn converted_structured_text_always_parses() {
+    let tokens = [
+        "a", "b", "Timer", "Timer.Q", "Timer.ET", "S1.X", "x", "1", "-2", "3.5", "T#5s", "t#1m30s",
+        "TRUE", "FALSE", "16#1F", "'txt'", ":=", "=>", "=", "<>", "<", ">", "<=", ">=", "+", "-",
+        "*", "/", "MOD", "AND", "&", "OR", "XOR", "NOT", "(", ")", ",", ";", ":", "..", "IF",
+        "THEN", "ELSIF", "ELSE", "END_IF", "CASE", "OF", "END_CASE", "(* c *)", "// c\n", "\n",
+    ];
+    let mut names = higraph_import::st::Names::default();
+    names.fb_instances.insert("TIMER".into(), ());
+    let mut seed: u64 = 0x2545_F491_4F6C_DD1D;
+    let mut next = |n: usize| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % n as u64) as usize
+    };
+    let mut accepted = (0, 0);
+    for _ in 0..40_000 {
+        let len = 1 + next(14);
+        let text: Vec<&str> = (0..len).map(|_| tokens[next(tokens.len())]).collect();
+        let text = text.join(" ");
+        if let Ok(body) = higraph_import::st::statements(&text, &names, 2) {
+            accepted.0 += 1;
+            let chart = format!(
+                "chart C <\n  profile iec;\n  stat < a : INT; b : INT; x : BOOL; Timer : TON; >\n  sequencer Main <\n    step S1 < >\n  >\n  action A <\n{body}  >\n>\n"
+            );
+            let errors = higraph_syntax::parse(&chart).errors().len();
+            assert_eq!(errors, 0, "ST `{text}` gave\n{chart}");
+        }
+        if let Ok(cond) = higraph_import::st::condition(&text, &names) {
+            accepted.1 += 1;
+            let chart = format!(
+                "chart C <\n  profile iec;\n  sequencer Main <\n    step S1 < >\n    trans T < {cond}; >\n    step S2 < >\n  >\n>\n"
+            );
+            let errors = higraph_syntax::parse(&chart).errors().len();
+            assert_eq!(errors, 0, "ST `{text}` gave\n{chart}");
+        }
+    }
+    assert!(accepted.0 > 100 && accepted.1 > 100, "{accepted:?}");
+}

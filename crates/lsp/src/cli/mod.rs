@@ -8,6 +8,7 @@ mod explain;
 // `fmt` itself would clash with `std::fmt`.
 #[path = "fmt.rs"]
 mod fmt_command;
+mod import;
 mod output;
 mod parse;
 mod paths;
@@ -65,6 +66,35 @@ enum Command {
     /// Generate STEP 7 sources for the graph groups and PLCopen XML for the charts.
     #[command(long_about = BUILD_ABOUT)]
     Build(BuildArgs),
+    /// Convert the SFC programs and function blocks of PLCopen XML files into IEC charts.
+    #[command(long_about = IMPORT_ABOUT)]
+    Import(ImportArgs),
+}
+
+const IMPORT_ABOUT: &str = "\
+Convert the SFC programs and function blocks of PLCopen TC6 XML 2.01 files (the neutral \
+format, CODESYS and Beremiz exports) into IEC charts (`profile iec;`).
+
+Each POU whose body is SFC becomes `<POU name>.higraph` in the output folder, laid out as \
+`fmt` lays it out. What the language cannot express (loops and function calls in ST, LD or \
+FBD bodies, macro steps, user-defined types, ...) is reported as `FILE:LINE: warning: ...` \
+with its POU and element, and the rest still imports: an action body that cannot be \
+imported becomes an empty action, a condition FALSE, each with a comment. Existing files are \
+not replaced without --force. Exit status: 0 everything imported, 1 files written with \
+problems reported, 2 usage error, unreadable file, invalid XML or a file not replaced.";
+
+/// Arguments of `higraph-lsp import`.
+#[derive(Debug, Args)]
+pub(crate) struct ImportArgs {
+    /// PLCopen XML files to import.
+    #[arg(value_name = "FILE", required = true)]
+    pub files: Vec<PathBuf>,
+    /// Write the charts into this folder (created if needed) instead of the current folder.
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    pub output: Option<PathBuf>,
+    /// Replace files that already exist.
+    #[arg(long)]
+    pub force: bool,
 }
 
 const BUILD_ABOUT: &str = "\
@@ -314,6 +344,7 @@ pub fn run() -> ExitCode {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Test(args)) => test::run(&args),
         Some(Command::Build(args)) => build::run(&args),
+        Some(Command::Import(args)) => import::run(&args),
         Some(Command::Lsp(_)) | None => {
             // Someone typed `higraph-lsp` in a terminal: say what this is. The server still
             // runs (an editor never starts it on a terminal).
