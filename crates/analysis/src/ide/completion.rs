@@ -32,6 +32,7 @@ use higraph_syntax::{
 };
 
 use super::FilePosition;
+use crate::iec::{Direction, FbType};
 use crate::lower::RunScope;
 use crate::rules::graph::facts::MemberFacts;
 use crate::{
@@ -710,6 +711,11 @@ enum Site {
     TestMember(SyntaxNode, Vec<String>),
     /// After `Chart.state =` in a test: the operating states.
     OpStates,
+    /// After `Name.` in a chart (the CHART node, the name): the members of a function block
+    /// instance, or `X`/`T` of a step in an IEC chart.
+    ChartDot(SyntaxNode, String),
+    /// The formals of a function block call (the FB_CALL node).
+    FbFormals(SyntaxNode),
     /// Nothing to propose.
     Nothing,
 }
@@ -742,6 +748,15 @@ fn classify(root: &SyntaxNode, cursor: &Cursor) -> Site {
     let same_line = !cursor.new_line;
     match (kind, parent_kind) {
         (Some(DOT), _) if ancestor(prev, &[TEST]).is_some() => test_member_site(prev),
+        (Some(DOT), _) if ancestor(prev, &[CHART]).is_some() => chart_dot_site(prev),
+        (Some(L_PAREN | COMMA), Some(FB_CALL)) => Site::FbFormals(parent),
+        (Some(THEN_KW | ELSE_KW), _) if ancestor(prev, &[CHART]).is_some() => Site::ChartOperand {
+            node: prev
+                .parent_ancestors()
+                .find(|n| n.kind() == BODY)
+                .unwrap_or(parent),
+            negatable: false,
+        },
         (Some(EQ | L_ANGLE), _) if same_line && after_chart_state(prev) => Site::OpStates,
         (
             Some(
@@ -796,7 +811,7 @@ fn classify(root: &SyntaxNode, cursor: &Cursor) -> Site {
         }
         (Some(ACTIVATE_KW | COMMA), Some(ACTIVATE)) => Site::Activate(parent),
         (Some(OPTION_KW), _) => Site::OptionName,
-        (Some(MODE_KW | SWITCHING_KW | RUN_KW), Some(CHART_PROP)) => {
+        (Some(MODE_KW | SWITCHING_KW | RUN_KW | PROFILE_KW), Some(CHART_PROP)) => {
             Site::ChartProp(kind.unwrap_or(MODE_KW))
         }
         (Some(TRANS_KW), Some(TRANS)) => Site::Endpoint {
@@ -895,7 +910,7 @@ fn element_start(root: &SyntaxNode, list: &SyntaxNode, offset: TextSize) -> Site
                 BRANCH => Site::BranchElement,
                 PARALLEL | ALT => Site::Branches,
                 STEP => Site::StepItem,
-                STEP_PHASE | PRE_PART | POST_PART => Site::ChartOperand {
+                STEP_PHASE | PRE_PART | POST_PART | CHART_ACTION => Site::ChartOperand {
                     node: list.clone(),
                     negatable: false,
                 },
@@ -941,7 +956,7 @@ fn after_assign(assign: &SyntaxNode) -> Site {
             opcode: None,
             time: false,
         },
-        ASSIGNMENT => Site::ChartOperand {
+        ASSIGNMENT | FB_ARG => Site::ChartOperand {
             node: owner,
             negatable: true,
         },
@@ -1014,6 +1029,17 @@ fn after_chart_state(op: &SyntaxToken) -> bool {
         && state
             .prev_token()
             .is_some_and(|d| d.kind() == DOT && d.prev_token().is_some_and(|c| c.kind() == IDENT))
+}
+
+/// After `Name.` in a chart: the name must stand right before the dot.
+fn chart_dot_site(dot: &SyntaxToken) -> Site {
+    let Some(chart) = ancestor(dot, &[CHART]) else {
+        return Site::Nothing;
+    };
+    match dot.prev_token() {
+        Some(name) if name.kind() == IDENT => Site::ChartDot(chart, name.text().to_owned()),
+        _ => Site::Nothing,
+    }
 }
 
 /// After a `.`: the incoming messages of an instance, in an actual parameter.
@@ -1341,7 +1367,113 @@ impl<'a> Completer<'a> {
                     self.value(0, state.name(), "operating state of a chart");
                 }
             }
+            Site::ChartDot(chart, name) => self.chart_dot(&chart, &name),
+            Site::FbFormals(call) => self.fb_formals(&call),
             Site::Nothing => {}
+        }
+    }
+
+    // -------------------------------------------------------------------- IEC charts
+
+    /// `Inst.`: the members of the instance's function block, inputs first; `Step.` in an IEC
+    /// chart: `X` and `T`.
+    fn chart_dot(&mut self, chart: &SyntaxNode, name: &str) {
+        let Some(chart) = ast::Chart::cast(chart.clone()) else {
+            return;
+        };
+        if let Some(fb) = fb_instance(&chart, name) {
+            for member in fb.members() {
+                let direction = match member.direction {
+                    Direction::Input => "input",
+                    Direction::Output => "output",
+                };
+                if let Some(item) = self.out.add(0, member.name, CompletionKind::Formal) {
+                    item.detail = Some(format!("{direction} {}", member.ty));
+                    item.documentation = Some(member.doc.to_owned());
+                }
+            }
+            return;
+        }
+        if chart.profile() != ast::Profile::Iec {
+            return;
+        }
+        let is_step = chart
+            .syntax()
+            .descendants()
+            .filter_map(ast::Step::cast)
+            .any(|s| {
+                s.name()
+                    .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+            });
+        if is_step {
+            self.value(0, "X", "BOOL: the step is active");
+            self.value(0, "T", "TIME: how long the step has been active");
+        }
+    }
+
+    /// Inside `Inst( ... )`: the formals not given yet, inputs as `IN := `, outputs as
+    /// `Q => `.
+    fn fb_formals(&mut self, call: &SyntaxNode) {
+        let Some(call) = ast::FbCall::cast(call.clone()) else {
+            return;
+        };
+        let Some(chart) = call.syntax().ancestors().find_map(ast::Chart::cast) else {
+            return;
+        };
+        let Some(fb) = call.callee().and_then(|c| fb_instance(&chart, &c.text())) else {
+            return;
+        };
+        let given: Vec<String> = call
+            .args()
+            .filter_map(|a| a.formal())
+            .map(|f| f.text())
+            .collect();
+        for member in fb.members() {
+            if given.iter().any(|g| g.eq_ignore_ascii_case(member.name)) {
+                continue;
+            }
+            let (rank, arrow, direction) = match member.direction {
+                Direction::Input => (0, ":=", "input"),
+                Direction::Output => (1, "=>", "output"),
+            };
+            if let Some(item) = self.out.add(rank, member.name, CompletionKind::Formal) {
+                item.detail = Some(format!("{direction} {}", member.ty));
+                item.documentation = Some(member.doc.to_owned());
+                item.insert_text = Some(format!("{} {arrow} ", member.name));
+            }
+        }
+    }
+
+    /// At the start of a statement of an IEC chart: `IF`, `CASE` and a call of each function
+    /// block instance.
+    fn iec_statements(&mut self, chart: &ast::Chart) {
+        self.out.snippet(
+            1,
+            "IF",
+            "IF condition THEN ... END_IF;",
+            "IF ${1:condition} THEN\n  $0\nEND_IF;".to_owned(),
+        );
+        self.out.snippet(
+            1,
+            "CASE",
+            "CASE selector OF ... END_CASE;",
+            "CASE ${1:selector} OF\n  ${2:1}: $0\nEND_CASE;".to_owned(),
+        );
+        for (_, decl) in crate::rules::decls::declarations(chart.var_sections()) {
+            let (Some(name), Some(ty)) = (decl.name(), decl.ty().and_then(|t| t.name())) else {
+                continue;
+            };
+            let Some(fb) = FbType::from_name(ty.text()) else {
+                continue;
+            };
+            let name = name.text();
+            let label = format!("{name}()");
+            self.out.snippet(
+                1,
+                &label,
+                &format!("call {}", fb.signature()),
+                format!("{name}($0);"),
+            );
         }
     }
 
@@ -2142,11 +2274,19 @@ impl<'a> Completer<'a> {
         );
         self.out
             .keyword(1, "run", "run option: cyclic, time_monitoring or autostart");
+        self.out
+            .keyword(1, "profile", "the rules the chart follows: pcs7 or iec");
+        self.out
+            .keyword(2, "action", "an action with statements (IEC charts)");
     }
 
     fn chart_prop(&mut self, keyword: SyntaxKind) {
         let values: &[(&str, &str)] = match keyword {
             MODE_KW => &[("auto", "automatic mode"), ("manual", "manual mode")],
+            PROFILE_KW => &[
+                ("pcs7", "PCS 7 SFC rules (the default)"),
+                ("iec", "IEC 61131-3 sequential function chart"),
+            ],
             SWITCHING_KW => &[
                 ("T", "transitions switch"),
                 ("B", "operator commands switch"),
@@ -2221,10 +2361,16 @@ impl<'a> Completer<'a> {
                     if !seen.insert(index::key(&name)) {
                         continue;
                     }
+                    let fb = decl
+                        .ty()
+                        .and_then(|t| t.name())
+                        .and_then(|t| FbType::from_name(t.text()));
                     let ty = decl
                         .ty()
                         .and_then(|t| index::declared_type(&t))
-                        .map_or_else(|| "?".to_owned(), |t| t.to_string());
+                        .map(|t| t.to_string())
+                        .or_else(|| fb.map(|f| f.name().to_owned()))
+                        .unwrap_or_else(|| "?".to_owned());
                     vars.push((name, format!("{} {ty}", kind.as_str())));
                 }
             }
@@ -2241,6 +2387,49 @@ impl<'a> Completer<'a> {
             self.out.keyword(3, "not", "logical negation");
             self.value(3, "TRUE", "BOOL constant");
             self.value(3, "FALSE", "BOOL constant");
+        }
+        if chart.profile() != ast::Profile::Iec || self.cursor.quoted() {
+            return;
+        }
+        let statement_start = node.kind() == BODY
+            && node.parent().is_some_and(|p| {
+                matches!(
+                    p.kind(),
+                    STEP_PHASE
+                        | PRE_PART
+                        | POST_PART
+                        | CHART_ACTION
+                        | IF_STMT
+                        | ELSIF_CLAUSE
+                        | ELSE_CLAUSE
+                        | CASE_ARM
+                )
+            });
+        if node.kind() == QUALIFIER_ACTION {
+            // A qualifier's operand may name an action.
+            for action in chart.actions() {
+                let Some(name) = action.name().map(|n| n.text()).filter(|n| !n.is_empty()) else {
+                    continue;
+                };
+                if let Some(item) = self.out.add(0, name, CompletionKind::Variable) {
+                    item.detail = Some("action".to_owned());
+                }
+            }
+        } else if statement_start {
+            self.iec_statements(&chart);
+        } else {
+            // Steps as values: `Step.X`, `Step.T`.
+            for step in chart.syntax().descendants().filter_map(ast::Step::cast) {
+                let Some(name) = step.name().map(|n| n.text()).filter(|n| !n.is_empty()) else {
+                    continue;
+                };
+                if let Some(item) = self.out.add(2, format!("{name}.X"), CompletionKind::Step) {
+                    item.detail = Some("BOOL: the step is active".to_owned());
+                }
+                if let Some(item) = self.out.add(2, format!("{name}.T"), CompletionKind::Step) {
+                    item.detail = Some("TIME: how long the step has been active".to_owned());
+                }
+            }
         }
     }
 
@@ -2272,6 +2461,20 @@ impl<'a> Completer<'a> {
         let index = item_nodes(&self.root).position(|n| n == item)?;
         Some(ItemLoc::new(self.db, self.file, u32::try_from(index).ok()?))
     }
+}
+
+/// The function block type of a chart variable of that name.
+fn fb_instance(chart: &ast::Chart, name: &str) -> Option<FbType> {
+    chart
+        .var_sections()
+        .flat_map(|s| s.decls())
+        .find(|d| {
+            d.name()
+                .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+        })
+        .and_then(|d| d.ty())
+        .and_then(|t| t.name())
+        .and_then(|t| FbType::from_name(t.text()))
 }
 
 /// A graph's declarations, from the cached queries.
@@ -3126,6 +3329,8 @@ Keyword stat · static variables
 Keyword mode · operating mode: auto or manual
 Keyword switching · switching mode: T, B, T_or_B, T_and_B or step
 Keyword run · run option: cyclic, time_monitoring or autostart
+Keyword profile · the rules the chart follows: pcs7 or iec
+Keyword action · an action with statements (IEC charts)
 "#);
         insta::assert_snapshot!(check("chart C <\n  switching $0\n>"), @r#"
 Value T · transitions switch
@@ -3329,5 +3534,64 @@ Keyword xor · exclusive OR
         let symbols = labels(&items, CompletionKind::Symbol);
         assert_eq!(symbols.len(), 29);
         assert_eq!(symbols[..3], ["Sym_199", "Sym_1099", "Sym_1199"]);
+    }
+
+    const IEC: &str = "chart Ampel <
+  profile iec;
+  stat < Uhr : TON; Teile : INT; Lampe : BOOL; >
+  action Zaehlen < Teile := Teile + 1; >
+  sequencer Haupt <
+";
+
+    fn iec(tail: &str) -> String {
+        format!("{IEC}{tail}\n  >\n>\n")
+    }
+
+    #[test]
+    fn function_block_members_after_the_dot() {
+        insta::assert_snapshot!(check(&iec("    step Rot < >\n    trans Weiter < Uhr.$0 >\n    step Gruen < >")), @r#"
+Formal IN · input BOOL
+Formal PT · input TIME
+Formal Q · output BOOL
+Formal ET · output TIME
+"#);
+        // Steps as values in an IEC chart.
+        let items = complete(&iec(
+            "    step Rot < >\n    trans Weiter < Rot.$0 >\n    step Gruen < >",
+        ));
+        assert_eq!(labels(&items, CompletionKind::Value), ["X", "T"]);
+        // Not in a PCS 7 chart, where `Rot.X` is an external reference.
+        let pcs7 = "chart C <\n  sequencer S <\n    start < TRUE; >\n    step Rot < >\n    trans W < Rot.$0 >\n    step G < >\n  >\n>\n";
+        assert!(complete(pcs7).is_empty());
+    }
+
+    #[test]
+    fn function_block_formals_in_a_call() {
+        insta::assert_snapshot!(check(&iec("    step Rot < run < Uhr(IN := TRUE, $0); > >")), @r#"
+Formal PT · input TIME ⇒ PT := 
+Formal Q · output BOOL ⇒ Q => 
+Formal ET · output TIME ⇒ ET => 
+"#);
+    }
+
+    #[test]
+    fn actions_and_statements_in_iec_charts() {
+        let items = complete(&iec("    step Rot < P1 $0 >"));
+        assert!(labels(&items, CompletionKind::Variable).contains(&"Zaehlen".to_owned()));
+        let items = complete(&iec("    step Rot < run < $0 > >"));
+        let snippets = labels(&items, CompletionKind::Snippet);
+        assert_eq!(snippets, ["IF", "CASE", "Uhr()"]);
+        let items = complete(&iec("    step Rot < >\n    trans W < $0 >"));
+        assert!(labels(&items, CompletionKind::Step).contains(&"Rot.X".to_owned()));
+        // The instance's detail names its block.
+        assert!(
+            items
+                .iter()
+                .any(|i| i.label == "Uhr" && i.detail.as_deref() == Some("stat TON"))
+        );
+        insta::assert_snapshot!(check("chart C <\n  profile $0\n>"), @r#"
+Value pcs7 · PCS 7 SFC rules (the default)
+Value iec · IEC 61131-3 sequential function chart
+"#);
     }
 }

@@ -111,6 +111,11 @@ pub enum Definition {
         sequencer: String,
         name: String,
     },
+    /// An `action` of an IEC chart (`docs/iec.md` §6).
+    Action {
+        chart: ItemId,
+        name: String,
+    },
 }
 
 /// How a reference uses its definition (Appendix E access kinds, plus the declaration and
@@ -196,8 +201,10 @@ pub(crate) enum UseTarget {
     Instance(String),
     /// A state of this graph (a transition endpoint).
     State(u32),
-    /// A step of this chart (a jump or loop target).
+    /// A step of this chart (a jump or loop target, `Step.X`/`Step.T` in an IEC chart).
     Step { sequencer: String, name: String },
+    /// An action of this chart (a qualifier's operand).
+    Action(String),
     /// The interface of a CALL's callee.
     BlockInterface(ItemId),
     /// A formal parameter of a CALL whose callee's interface is declared.
@@ -875,8 +882,41 @@ impl<'a> Walker<'a> {
             self.chart_path(&mut scope, &path);
             self.ctx.out.diags.clear();
         }
+        // The block named by a function block call is a use of its instance.
+        for call in chart.syntax().descendants().filter_map(ast::FbCall::cast) {
+            let Some(token) = call.callee().and_then(|c| c.token()) else {
+                continue;
+            };
+            if let Some(var) = scope.var(token.text()).and_then(|i| scope.vars.get(i)) {
+                let target = UseTarget::Var(var.name.clone());
+                self.push(token.text_range(), target, ReferenceKind::ReadWrite, false);
+            }
+        }
         for sequencer in chart.sequencers() {
             self.jump_targets(&sequencer);
+        }
+    }
+
+    /// `Step.X` / `Step.T` (IEC charts): the step; the sequencer holding a step of that name.
+    fn step_flag(&mut self, chart: &ast::Chart, path: &ast::Path) {
+        let Some(token) = path.segments().next().and_then(|s| s.token()) else {
+            return;
+        };
+        for sequencer in chart.sequencers() {
+            let Some(sequencer_name) = sequencer.name().map(|n| n.text()) else {
+                continue;
+            };
+            if let Some(step) = step_names(&sequencer)
+                .into_iter()
+                .find(|s| s.eq_ignore_ascii_case(token.text()))
+            {
+                let target = UseTarget::Step {
+                    sequencer: sequencer_name,
+                    name: step,
+                };
+                self.push(token.text_range(), target, ReferenceKind::Read, false);
+                return;
+            }
         }
     }
 
@@ -888,10 +928,31 @@ impl<'a> Walker<'a> {
             ReferenceKind::Read
         };
         let (target, quoted) = match target {
-            operands::Target::Var(i) => match scope.vars.get(i) {
-                Some(var) => (UseTarget::Var(var.name.clone()), false),
-                None => return,
-            },
+            operands::Target::Var(i)
+            | operands::Target::Iec(operands::IecTarget::FbMember { var: i, .. }) => {
+                match scope.vars.get(i) {
+                    Some(var) => (UseTarget::Var(var.name.clone()), false),
+                    None => return,
+                }
+            }
+            operands::Target::Iec(operands::IecTarget::StepFlag { .. }) => {
+                let chart = scope.chart.chart.clone();
+                self.step_flag(&chart, path);
+                return;
+            }
+            operands::Target::Unresolved if is_qualifier_operand(path) => {
+                let Some(token) = path.segments().next().and_then(|s| s.token()) else {
+                    return;
+                };
+                if let Some(action) = scope
+                    .action(token.text())
+                    .and_then(|i| scope.actions.get(i))
+                {
+                    let target = UseTarget::Action(action.name.clone());
+                    self.push(token.text_range(), target, ReferenceKind::Name, false);
+                }
+                return;
+            }
             operands::Target::Symbol { name, .. } => match self.ctx.index.symbol_position(&name) {
                 Some(position) => (UseTarget::Symbol(position), path.symbol().is_some()),
                 None => return,
@@ -1017,11 +1078,22 @@ fn reference_range(operand: &ast::Operand) -> Option<(TextRange, bool)> {
     }
 }
 
-/// Is a chart path written: an assignment target or the operand of a qualifier action?
+/// Is the path the operand of a qualifier action?
+fn is_qualifier_operand(path: &ast::Path) -> bool {
+    path.syntax()
+        .parent()
+        .is_some_and(|p| p.kind() == SyntaxKind::QUALIFIER_ACTION)
+}
+
+/// Is a chart path written: an assignment target, the operand of a qualifier action, or the
+/// target of a call's output (`Q => Path`)?
 fn is_written_path(path: &ast::Path) -> bool {
     let Some(parent) = path.syntax().parent() else {
         return false;
     };
+    if parent.kind() == SyntaxKind::FB_ARG {
+        return true;
+    }
     let first_path = parent.children().find(|n| n.kind() == SyntaxKind::PATH);
     matches!(
         parent.kind(),
@@ -1206,6 +1278,10 @@ fn definition_of(db: &dyn salsa::Database, item: ItemId, target: &UseTarget) -> 
                 number: *number,
             }
         }
+        UseTarget::Action(name) => Definition::Action {
+            chart: item,
+            name: name.clone(),
+        },
         UseTarget::Step { sequencer, name } => Definition::Step {
             chart: item,
             sequencer: sequencer.clone(),
@@ -1268,6 +1344,7 @@ fn declared_at(
             Definition::Symbol(position)
         }
         SyntaxKind::SEQUENCER => Definition::Sequencer { chart: item, name },
+        SyntaxKind::CHART_ACTION => Definition::Action { chart: item, name },
         SyntaxKind::STEP | SyntaxKind::CHART_TRANS | SyntaxKind::JUMP | SyntaxKind::LOOP => {
             let sequencer = owner
                 .ancestors()
@@ -1409,6 +1486,14 @@ pub(crate) fn declaration_node(
         Definition::Sequencer { chart, name } => {
             (*chart, sequencer_node(db, *chart, name)?.syntax().clone())
         }
+        Definition::Action { chart, name } => {
+            let root = db::item_root(db, chart.loc(db)).and_then(ast::Chart::cast)?;
+            let action = root.actions().find(|a| {
+                a.name()
+                    .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+            })?;
+            (*chart, action.syntax().clone())
+        }
         Definition::Step {
             chart,
             sequencer,
@@ -1521,7 +1606,9 @@ fn symbol_kind(definition: &Definition, node: &SyntaxNode) -> SymbolKind {
         Definition::State { .. } => SymbolKind::State,
         Definition::Sequencer { .. } => SymbolKind::Sequencer,
         Definition::Step { .. } => SymbolKind::Step,
-        Definition::ChartTransition { .. } => SymbolKind::ChartTransition,
+        Definition::ChartTransition { .. } | Definition::Action { .. } => {
+            SymbolKind::ChartTransition
+        }
     }
 }
 
@@ -1680,6 +1767,12 @@ pub fn references(
                 &|t| matches!(t, UseTarget::Step { sequencer: s, name: n } if same(s, sequencer) && same(n, name)),
             );
         }
+        Definition::Action { chart, name } => {
+            scan(
+                &[*chart],
+                &|t| matches!(t, UseTarget::Action(n) if same(n, name)),
+            );
+        }
     }
     // The uses in tests name other items' definitions.
     let wanted = folded(definition);
@@ -1704,6 +1797,10 @@ fn folded(definition: &Definition) -> Definition {
             name: up(name),
         },
         Definition::Sequencer { chart, name } => Definition::Sequencer {
+            chart: *chart,
+            name: up(name),
+        },
+        Definition::Action { chart, name } => Definition::Action {
             chart: *chart,
             name: up(name),
         },
@@ -1747,7 +1844,8 @@ pub fn definition_name(db: &dyn salsa::Database, ws: Workspace, definition: &Def
         | Definition::Instance { name, .. }
         | Definition::Sequencer { name, .. }
         | Definition::Step { name, .. }
-        | Definition::ChartTransition { name, .. } => name.clone(),
+        | Definition::ChartTransition { name, .. }
+        | Definition::Action { name, .. } => name.clone(),
         Definition::Predefined { name, .. } => (*name).to_owned(),
         Definition::State { number, .. } => number.to_string(),
     }
@@ -1806,6 +1904,7 @@ mod tests {
             Definition::ChartTransition {
                 sequencer, name, ..
             } => format!("chart transition {sequencer}.{name}"),
+            Definition::Action { name, .. } => format!("action {name}"),
         }
     }
 

@@ -60,6 +60,9 @@ fn hover(db: &dyn salsa::Database, ws: Workspace, file: File, offset: TextSize) 
     if let Some(hover) = test_path(db, ws, file, offset) {
         return Some(hover);
     }
+    if let Some(hover) = iec(&token) {
+        return Some(hover);
+    }
     for name_use in defs::uses_at(db, ws, file, offset) {
         if let UseTarget::Address(address) = &name_use.target {
             return Some(Hover {
@@ -80,6 +83,114 @@ fn hover(db: &dyn salsa::Database, ws: Workspace, file: File, offset: TextSize) 
         range: node.syntax().text_range(),
         markdown: address_text(db, ws, &address, mnemonic),
     })
+}
+
+/// IEC charts (`docs/iec.md`): a standard function block type name, a member of an instance
+/// (`Uhr.Q`, a formal of a call), `X`/`T` of a step.
+fn iec(token: &SyntaxToken) -> Option<Hover> {
+    use crate::iec::{Direction, FbType};
+    let chart = token.parent_ancestors().find_map(ast::Chart::cast)?;
+    let parent = token.parent()?;
+    let instance_type = |name: &str| {
+        chart
+            .var_sections()
+            .flat_map(|s| s.decls())
+            .find(|d| {
+                d.name()
+                    .is_some_and(|n| n.text().eq_ignore_ascii_case(name))
+            })
+            .and_then(|d| d.ty())
+            .and_then(|t| t.name())
+            .and_then(|t| FbType::from_name(t.text()))
+    };
+    let member_text = |fb: FbType, instance: &str, member: &str| {
+        let member = fb.member(member)?;
+        let direction = match member.direction {
+            Direction::Input => "input",
+            Direction::Output => "output",
+        };
+        Some(format!(
+            "{}\n\n{direction} of `{instance}` ({}) · {}",
+            code(&format!("{}.{} : {}", instance, member.name, member.ty)),
+            fb.name(),
+            member.doc
+        ))
+    };
+    let range = token.text_range();
+    match parent.kind() {
+        SyntaxKind::TYPE_REF => {
+            let fb = FbType::from_name(token.text())?;
+            Some(Hover {
+                range,
+                markdown: fb_text(fb),
+            })
+        }
+        SyntaxKind::NAME_REF => {
+            let holder = parent.parent()?;
+            let first = holder
+                .children()
+                .find(|n| n.kind() == SyntaxKind::NAME_REF)?;
+            match holder.kind() {
+                // `Inst.M` / `Step.X` on the second segment.
+                SyntaxKind::PATH if first != parent => {
+                    let path = ast::Path::cast(holder)?;
+                    let segments: Vec<ast::NameRef> = path.segments().collect();
+                    let [head, _] = segments.as_slice() else {
+                        return None;
+                    };
+                    let head = head.text();
+                    if let Some(fb) = instance_type(&head) {
+                        return Some(Hover {
+                            range,
+                            markdown: member_text(fb, &head, token.text())?,
+                        });
+                    }
+                    let is_step = chart.profile() == ast::Profile::Iec
+                        && chart
+                            .syntax()
+                            .descendants()
+                            .filter_map(ast::Step::cast)
+                            .any(|s| {
+                                s.name()
+                                    .is_some_and(|n| n.text().eq_ignore_ascii_case(&head))
+                            });
+                    let markdown = match token.text().to_ascii_uppercase().as_str() {
+                        "X" if is_step => format!(
+                            "{}\n\nTRUE while step `{head}` is active",
+                            code(&format!("{head}.X : BOOL"))
+                        ),
+                        "T" if is_step => format!(
+                            "{}\n\nhow long step `{head}` has been active (0 while it is not)",
+                            code(&format!("{head}.T : TIME"))
+                        ),
+                        _ => return None,
+                    };
+                    Some(Hover { range, markdown })
+                }
+                // A formal of a call: `IN := ...`, `Q => ...`.
+                SyntaxKind::FB_ARG => {
+                    let call = holder.parent().and_then(ast::FbCall::cast)?;
+                    let instance = call.callee()?.text();
+                    let fb = instance_type(&instance)?;
+                    Some(Hover {
+                        range,
+                        markdown: member_text(fb, &instance, token.text())?,
+                    })
+                }
+                _ => None,
+            }
+        }
+        _ => None,
+    }
+}
+
+/// A standard function block: its signature and what it does.
+fn fb_text(fb: crate::iec::FbType) -> String {
+    format!(
+        "{}\n\nstandard function block (IEC 61131-3) · {}",
+        code(&fb.signature()),
+        fb.doc()
+    )
 }
 
 /// A segment of a test path: what it names (as the declaration's own hover), and on the last
@@ -246,6 +357,13 @@ fn definition(db: &dyn salsa::Database, ws: Workspace, definition: &Definition) 
             let decl = ast::VarDecl::cast(node.clone())?;
             parts.push(code(&declaration_text(&decl)));
             parts.push(variable_summary(db, *owner, &decl));
+            if let Some(fb) = decl
+                .ty()
+                .and_then(|t| t.name())
+                .and_then(|t| crate::iec::FbType::from_name(t.text()))
+            {
+                parts.push(fb_text(fb));
+            }
             if let Some(comment) = decl.comment().map(|c| c.value()).filter(|c| !c.is_empty()) {
                 parts.push(comment);
             }
@@ -346,6 +464,16 @@ fn definition(db: &dyn salsa::Database, ws: Workspace, definition: &Definition) 
                 _ => "transition",
             };
             parts.push(format!("{kind} of sequencer `{sequencer}`"));
+        }
+        Definition::Action { chart, .. } => {
+            parts.push(code(&header(&node)));
+            let statements =
+                ast::ChartAction::cast(node.clone()).map_or(0, |a| a.statements().count());
+            parts.push(format!(
+                "action of chart `{}` · {} · runs while a qualifier of an active step holds it",
+                item_name(db, *chart),
+                plural(statements, "statement")
+            ));
         }
         Definition::Predefined { .. } | Definition::Symbol(_) => {}
     }
@@ -1477,5 +1605,57 @@ graph G < state 0 < C: CALL FC 10 (Menge := MW 2, Fertig := M 0.0); > trans any-
     #[test]
     fn nothing_on_punctuation_and_comments() {
         assert_eq!(at("< Oben"), "no hover");
+    }
+
+    #[test]
+    fn iec_function_blocks_members_steps_and_actions() {
+        let chart = "chart Ampel <
+  profile iec;
+  stat < Uhr : TON; Teile : INT; >
+  action Zaehlen < Teile := Teile + 1; >
+  sequencer Haupt <
+    step Rot < P1 Zaehlen; run < Uhr(IN := Rot.X, PT := T#5S); > >
+    trans Weiter < Uhr.Q; >
+    step Gruen < >
+  >
+>
+";
+        let at = |needle: &str, with: &str| {
+            let text = chart.replacen(needle, with, 1);
+            let f = fixture::load(&text);
+            f.host
+                .analysis()
+                .hover(&f.position)
+                .expect("not cancelled")
+                .map(|h| h.markdown)
+                .unwrap_or_default()
+        };
+        let member = at("Uhr.Q", "Uhr.$0Q");
+        assert!(
+            member.contains("Uhr.Q : BOOL") && member.contains("output of `Uhr` (TON)"),
+            "{member}"
+        );
+        let formal = at("PT :=", "$0PT :=");
+        assert!(
+            formal.contains("Uhr.PT : TIME") && formal.contains("input"),
+            "{formal}"
+        );
+        let ty = at(": TON", ": $0TON");
+        assert!(
+            ty.contains("TON(IN : BOOL, PT : TIME) => (Q : BOOL, ET : TIME)"),
+            "{ty}"
+        );
+        let instance = at("Uhr(", "$0Uhr(");
+        assert!(
+            instance.contains("`stat` variable of chart `Ampel`") && instance.contains("on-delay"),
+            "{instance}"
+        );
+        let flag = at("Rot.X", "Rot.$0X");
+        assert!(flag.contains("Rot.X : BOOL"), "{flag}");
+        let action = at("P1 Zaehlen", "P1 $0Zaehlen");
+        assert!(
+            action.contains("action of chart `Ampel` · 1 statement"),
+            "{action}"
+        );
     }
 }

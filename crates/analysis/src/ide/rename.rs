@@ -408,6 +408,17 @@ fn is_identifier(name: &str) -> bool {
 
 // ------------------------------------------------------------------------------ collisions
 
+/// Does the chart item have an action of that name?
+fn action_named(db: &dyn salsa::Database, chart: ItemId, name: &str) -> bool {
+    db::item_root(db, defs::item_loc(db, chart))
+        .and_then(ast::Chart::cast)
+        .is_some_and(|c| {
+            c.actions()
+                .filter_map(|a| a.name())
+                .any(|n| n.text().eq_ignore_ascii_case(name))
+        })
+}
+
 /// Refuses a new name that another declaration of the same namespace has, or that would
 /// capture a use of a global symbol.
 fn check_free(
@@ -437,9 +448,24 @@ fn check_free(
                     }
                     symbol_not_captured(db, ws, *owner, &owner_name, new_name)
                 }
-                Some(ItemKind::Chart) => symbol_not_captured(db, ws, *owner, &owner_name, new_name),
+                Some(ItemKind::Chart) => {
+                    if action_named(db, *owner, new_name) {
+                        return Err(format!("{owner_name} already has an action '{new_name}'"));
+                    }
+                    symbol_not_captured(db, ws, *owner, &owner_name, new_name)
+                }
                 _ => Ok(()),
             }
+        }
+        Definition::Action { chart, .. } => {
+            if action_named(db, *chart, new_name) || defs::var_decl(db, *chart, new_name).is_some()
+            {
+                return Err(format!(
+                    "{} already has an action or variable '{new_name}'",
+                    owner_description(db, *chart)
+                ));
+            }
+            Ok(())
         }
         Definition::Instance { group, .. } => {
             let node = db::item_root(db, defs::item_loc(db, *group)).and_then(ast::Group::cast);
@@ -1853,5 +1879,63 @@ graph G <
             }
             assert!(seen.len() > 10, "{name}: only {} renames", seen.len());
         }
+    }
+
+    const IEC_CHART: &str = "chart Ampel <
+  profile iec;
+  stat < Uhr : TON; Teile : INT; >
+  action Zaehlen < Teile := Teile + 1; >
+  sequencer Haupt <
+    step Rot < P1 Zaehlen; run < Uhr(IN := Rot.X, PT := T#5S); > >
+    trans Weiter < Uhr.Q; >
+    step Gruen < N zaehlen; >
+  >
+>
+";
+
+    #[test]
+    fn renames_iec_instances_actions_and_steps_in_member_paths() {
+        let instance = IEC_CHART.replacen("Uhr :", "$0Uhr :", 1);
+        insta::assert_snapshot!(check(&instance, "Timer1"), @r#"
+        //- main.higraph
+        chart Ampel <
+          profile iec;
+          stat < Timer1 : TON; Teile : INT; >
+          action Zaehlen < Teile := Teile + 1; >
+          sequencer Haupt <
+            step Rot < P1 Zaehlen; run < Timer1(IN := Rot.X, PT := T#5S); > >
+            trans Weiter < Timer1.Q; >
+            step Gruen < N zaehlen; >
+          >
+        >
+        "#);
+        let action = IEC_CHART.replacen("P1 Zaehlen", "P1 $0Zaehlen", 1);
+        insta::assert_snapshot!(check(&action, "Zaehle"), @r#"
+        //- main.higraph
+        chart Ampel <
+          profile iec;
+          stat < Uhr : TON; Teile : INT; >
+          action Zaehle < Teile := Teile + 1; >
+          sequencer Haupt <
+            step Rot < P1 Zaehle; run < Uhr(IN := Rot.X, PT := T#5S); > >
+            trans Weiter < Uhr.Q; >
+            step Gruen < N Zaehle; >
+          >
+        >
+        "#);
+        let step = IEC_CHART.replacen("step Rot", "step $0Rot", 1);
+        let renamed = check(&step, "Stop");
+        assert!(
+            renamed.contains("step Stop <") && renamed.contains("IN := Stop.X"),
+            "{renamed}"
+        );
+        assert_eq!(
+            refused(&action, "Teile"),
+            "chart Ampel already has an action or variable 'Teile'"
+        );
+        assert_eq!(
+            refused(&instance, "Zaehlen"),
+            "chart Ampel already has an action 'Zaehlen'"
+        );
     }
 }

@@ -109,7 +109,7 @@ pub const TOKEN_MODIFIERS: &[&str] = &[
 pub enum TokenKind {
     /// A keyword of the language, a chart property value or a group option name.
     Keyword,
-    /// An STL operation or a chart action qualifier.
+    /// An STL operation, a chart action qualifier or an IEC action.
     Opcode,
     /// A chart operator or a status operand.
     Operator,
@@ -495,7 +495,7 @@ impl Highlighter<'_> {
         let parent = token.parent().map(|p| p.kind());
         let (kind, modifiers) = match kind {
             COMMENT => (TokenKind::Comment, 0),
-            AND_KW | OR_KW | XOR_KW | NOT_KW => (TokenKind::Operator, 0),
+            AND_KW | OR_KW | XOR_KW | NOT_KW | MOD_KW => (TokenKind::Operator, 0),
             _ if kind.is_keyword() => (TokenKind::Keyword, 0),
             STRING => (TokenKind::String, 0),
             NUMBER => match parent {
@@ -507,6 +507,8 @@ impl Highlighter<'_> {
             L_ANGLE | R_ANGLE | EQ | PLUS | MINUS | STAR | SLASH if parent == Some(BIN_EXPR) => {
                 (TokenKind::Operator, 0)
             }
+            // Unary minus (IEC charts).
+            MINUS if parent == Some(PREFIX_EXPR) => (TokenKind::Operator, 0),
             // The `-` of a negative step count.
             MINUS if parent == Some(TEST_STEP) => (TokenKind::Constant, 0),
             _ => return,
@@ -541,6 +543,8 @@ impl Highlighter<'_> {
             SEQUENCER => (TokenKind::Sequencer, declaration),
             STEP => (TokenKind::Step, declaration),
             CHART_TRANS | JUMP | LOOP => (TokenKind::Transition, declaration),
+            // An IEC action: a named piece of code ("function").
+            CHART_ACTION => (TokenKind::Opcode, declaration),
             TEST => (TokenKind::Item, declaration),
             _ => return,
         };
@@ -562,6 +566,22 @@ impl Highlighter<'_> {
             ACTUAL if is_first_name_ref(&parent, node) => formal_class(&parent, &text, resolver),
             PARAM if is_first_name_ref(&parent, node) => Some((TokenKind::Parameter, 0)),
             TEST_RUN => self.index.item(&text).map(|_| (TokenKind::Item, 0)),
+            FB_CALL => match resolver {
+                Resolver::Chart { scope, .. } => scope
+                    .var(&text)
+                    .and_then(|i| scope.vars.get(i))
+                    .map(|v| variable_class(v.section, None)),
+                _ => None,
+            },
+            FB_ARG if is_first_name_ref(&parent, node) => {
+                let output = ast::FbArg::cast(parent.clone()).is_some_and(|a| a.is_output());
+                let modifier = if output {
+                    TokenModifier::Output
+                } else {
+                    TokenModifier::Input
+                };
+                Some((TokenKind::Parameter, modifier.bit()))
+            }
             TEST_COMMAND if is_first_name_ref(&parent, node) => {
                 self.index.item(&text).map(|_| (TokenKind::Item, 0))
             }
@@ -676,6 +696,12 @@ impl Highlighter<'_> {
                     self.push_node(flag.syntax(), TokenKind::PredefinedVariable, modifiers);
                 }
                 None
+            }
+            operands::Target::Unresolved
+                if node.parent().is_some_and(|p| p.kind() == QUALIFIER_ACTION)
+                    && scope.action(&node.text().to_string()).is_some() =>
+            {
+                Some((TokenKind::Opcode, 0))
             }
             operands::Target::External | operands::Target::Unresolved => None,
         };
@@ -1339,5 +1365,38 @@ symbols < Dosieren : FC 11; >
         }
         out.sort();
         out
+    }
+
+    #[test]
+    fn iec_charts_highlight_statements_members_and_actions() {
+        let text = "chart Ampel <
+  profile iec;
+  stat < Uhr : TON; Teile : INT; >
+  action Zaehlen < Teile := -Teile MOD 3; >
+  sequencer Haupt <
+    step Rot < P1 Zaehlen; run < IF Rot.X THEN Uhr(IN := TRUE, Q => Teile); END_IF; > >
+    trans W < Uhr.Q; >
+    step Gruen < >
+  >
+>
+";
+        let out = check(text);
+        for expected in [
+            "Zaehlen        Opcode declaration",
+            "-              Operator",
+            "MOD            Operator",
+            "Zaehlen        Opcode \n",
+            "IF             Keyword",
+            "THEN           Keyword",
+            "END_IF         Keyword",
+            "Rot            Step \n",
+            "X              PredefinedVariable readonly defaultLibrary",
+            "Uhr            Variable \n",
+            "IN             Parameter input",
+            "Q              Parameter output",
+            "TON            Type defaultLibrary",
+        ] {
+            assert!(out.contains(expected), "{expected:?} missing in\n{out}");
+        }
     }
 }

@@ -58,6 +58,8 @@ pub enum SignatureKind {
     Call,
     /// A chart step's action qualifier.
     Qualifier,
+    /// A call of a standard function block instance (IEC charts).
+    FbCall,
 }
 
 /// One parameter of a signature.
@@ -99,6 +101,9 @@ fn signature_help(
     for node in token.parent_ancestors() {
         match node.kind() {
             SyntaxKind::PARAM_LIST => return call(db, ws, file, &node, offset),
+            SyntaxKind::FB_CALL => {
+                return ast::FbCall::cast(node).and_then(|c| fb_call(&c, offset));
+            }
             SyntaxKind::QUALIFIER_ACTION => {
                 return ast::QualifierAction::cast(node).and_then(|a| qualifier(&a, offset));
             }
@@ -452,6 +457,21 @@ const QUALIFIERS: &[(&str, &str, bool)] = &[
         false,
     ),
     (
+        "P1",
+        "pulse (IEC charts): the action runs once when the step becomes active",
+        false,
+    ),
+    (
+        "P0",
+        "pulse (IEC charts): the action runs once when the step becomes inactive",
+        false,
+    ),
+    (
+        "DL",
+        "delayed and limited (IEC charts): 1 from the time after activation until twice the time, while the step is active",
+        true,
+    ),
+    (
         "L",
         "time limited: the action is 1 while the step is active, at most for the time",
         true,
@@ -529,6 +549,86 @@ fn qualifier(action: &ast::QualifierAction, offset: TextSize) -> Option<Signatur
         documentation: Some(format!("`{name}` — {meaning}\n\n{needs}")),
         parameters: builder.parameters,
         active_parameter: active,
+    })
+}
+
+/// Inside the parentheses of a function block call (`Uhr(IN := Start, |)`): the block's
+/// inputs (`:=`) and outputs (`=>`); the active parameter is the formal of the argument at the
+/// cursor, else the first not given yet.
+fn fb_call(call: &ast::FbCall, offset: TextSize) -> Option<SignatureHelp> {
+    use crate::iec::{Direction, FbType};
+    let open = call
+        .syntax()
+        .children_with_tokens()
+        .find(|e| e.kind() == SyntaxKind::L_PAREN)?;
+    if offset < open.text_range().end() {
+        return None;
+    }
+    let close = call
+        .syntax()
+        .children_with_tokens()
+        .find(|e| e.kind() == SyntaxKind::R_PAREN);
+    if close.is_some_and(|c| c.text_range().start() < offset) {
+        return None;
+    }
+    let instance = call.callee()?.text();
+    let chart = call.syntax().ancestors().find_map(ast::Chart::cast)?;
+    let fb = chart
+        .var_sections()
+        .flat_map(|s| s.decls())
+        .find(|d| {
+            d.name()
+                .is_some_and(|n| n.text().eq_ignore_ascii_case(&instance))
+        })
+        .and_then(|d| d.ty())
+        .and_then(|t| t.name())
+        .and_then(|t| FbType::from_name(t.text()))?;
+    let mut builder = Builder::default();
+    builder.text(&format!("{instance}("));
+    for (i, member) in fb.members().iter().enumerate() {
+        if i > 0 {
+            builder.text(", ");
+        }
+        let (arrow, direction) = match member.direction {
+            Direction::Input => (":=", "input"),
+            Direction::Output => ("=>", "output"),
+        };
+        builder.parameter(
+            &format!("{} {arrow} {}", member.name, member.ty),
+            Some(format!("{direction} · {}", member.doc)),
+        );
+    }
+    builder.text(")");
+    let args: Vec<ast::FbArg> = call.args().collect();
+    let at_cursor = args
+        .iter()
+        .find(|a| a.syntax().text_range().contains_inclusive(offset))
+        .and_then(|a| a.formal())
+        .map(|f| f.text());
+    let index_of = |name: &str| {
+        fb.members()
+            .iter()
+            .position(|m| m.name.eq_ignore_ascii_case(name))
+    };
+    let active = match at_cursor {
+        Some(name) => index_of(&name),
+        None => fb.members().iter().position(|m| {
+            !args.iter().any(|a| {
+                a.formal()
+                    .is_some_and(|f| f.text().eq_ignore_ascii_case(m.name))
+            })
+        }),
+    };
+    Some(SignatureHelp {
+        kind: SignatureKind::FbCall,
+        label: builder.label,
+        documentation: Some(format!(
+            "`{instance}` : {} — {}; inputs with `:=`, outputs read with `=>`",
+            fb.name(),
+            fb.doc()
+        )),
+        parameters: builder.parameters,
+        active_parameter: active.and_then(|a| u32::try_from(a).ok()),
     })
 }
 
@@ -790,5 +890,26 @@ block Regler < in < Soll : REAL; > out < Stell : REAL "the output"; > >
                 }
             }
         }
+    }
+
+    #[test]
+    fn function_block_calls_in_iec_charts() {
+        let chart = |call: &str| {
+            format!(
+                "chart Ampel <\n  profile iec;\n  stat < Uhr : TON; Start : BOOL; >\n  sequencer S <\n    step Rot < run < {call} > >\n  >\n>\n"
+            )
+        };
+        insta::assert_snapshot!(check(&chart("Uhr(IN := Start, $0);")), @r#"
+            FbCall: Uhr(IN := BOOL, PT := TIME, Q => BOOL, ET => TIME)
+            active: [PT := TIME]
+            doc: `Uhr` : TON — on-delay timer: Q follows IN after PT; inputs with `:=`, outputs read with `=>`
+              IN := BOOL: input · the input the timer watches
+              PT := TIME: input · the preset time
+              Q => BOOL: output · the timer's output
+              ET => TIME: output · the elapsed time
+        "#);
+        let on_output = check(&chart("Uhr(IN := Start, Q => St$0art);"));
+        assert!(on_output.contains("active: [Q => BOOL]"), "{on_output}");
+        assert_eq!(check(&chart("Uhr(IN := Start);$0")), "none");
     }
 }
