@@ -136,8 +136,47 @@ chart Par <
 }
 
 #[test]
+fn an_iec_chart_with_function_blocks_statements_and_actions() {
+    insta::assert_snapshot!(lowered(
+        r#"
+symbols < Lampe : A 0.0; Taste : E 0.0; >
+chart Iec <
+  profile iec;
+  stat < Zeit : TON; Zaehler : CTU; Teile : INT; Modus : DINT; Dauer : TIME; >
+  sequencer Lauf <
+    pre < Zaehler(CU := Taste, PV := 3); >
+    post < Zeit(IN := A.X, PT := T#1S + Dauer * 2, Q => Lampe); >
+    step A <
+      run <
+        IF Teile > 10 THEN
+          Teile := 0;
+        ELSIF Teile < -Teile THEN
+          Teile := (Teile + 1) MOD 7;
+        ELSE
+          CASE Modus OF
+            1, 3..5: Teile := Teile / 2;
+          ELSE
+            Teile := -1;
+          END_CASE;
+        END_IF;
+      >
+      P1 Zaehlen;
+      DL Lampe, T#2S;
+    >
+    alt <
+      branch < trans T1 < Zeit.Q and A.T >= T#1S; > step B < P0 Zaehlen; > >
+      branch < jump J -> A < Zaehler.Q; > >
+    >
+  >
+  action Zaehlen < Teile := Teile + 1; >
+>
+"#
+    ));
+}
+
+#[test]
 fn the_examples_lower() {
-    for dir in ["drilling", "mixer", "mistakes"] {
+    for dir in ["drilling", "mixer", "mistakes", "ampel"] {
         let host = example(dir);
         let lowered = host.analysis().lower_workspace().expect("not cancelled");
         let p = &lowered.program;

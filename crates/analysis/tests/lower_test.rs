@@ -505,3 +505,83 @@ test Stubs <
     );
     assert_eq!(run(&host, "main.higraph", "Stubs"), Vec::<String>::new());
 }
+
+// ------------------------------------------------------------------------------ IEC charts
+
+/// The example `examples/ampel` (an IEC chart) with `replace` applied to its tests.
+fn ampel(replace: Option<(&str, &str)>) -> AnalysisHost {
+    let root = format!("{}/../../examples/ampel", env!("CARGO_MANIFEST_DIR"));
+    let mut data = WorkspaceData::default();
+    for path in ["ampel.higraph", "tests.higraph"] {
+        let mut text = std::fs::read_to_string(format!("{root}/{path}")).expect("example file");
+        if let Some((from, to)) = replace {
+            text = text.replacen(from, to, 1);
+        }
+        data.files
+            .push((path.to_owned(), FileContents::from_bytes(text.into_bytes())));
+    }
+    let mut host = AnalysisHost::new();
+    host.load(data);
+    host
+}
+
+/// The failures of an IEC test, lowered even where the checker still reports errors (the
+/// HG75xx rules of IEC charts are checked elsewhere).
+fn run_iec(host: &AnalysisHost, path: &str, name: &str) -> Vec<String> {
+    let lowered = match host
+        .analysis()
+        .lower_test_ignoring_errors(path, name)
+        .expect("not cancelled")
+    {
+        Ok(t) => t,
+        Err(d) => return vec![format!("{}: {}", d.code, d.message)],
+    };
+    let options = higraph_runtime::test::RunOptions {
+        trace: false,
+        cancelled: &|| false,
+    };
+    let run = higraph_runtime::test::run(&lowered.program, &options).expect("not cancelled");
+    run.failures
+        .iter()
+        .map(|f| format!("{} {}", f.code, f.message))
+        .collect()
+}
+
+#[test]
+fn the_ampel_example_runs_on_the_simulator() {
+    let host = ampel(None);
+    for name in ["Ampel_Runde", "Teile_Zaehlen"] {
+        assert_eq!(
+            run_iec(&host, "tests.higraph", name),
+            Vec::<String>::new(),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn a_changed_expectation_of_the_ampel_example_fails() {
+    let host = ampel(Some((
+        "expect Ampel.Zaehler.CV = 5 and Kiste_Voll;",
+        "expect Ampel.Zaehler.CV = 6 and Kiste_Voll;",
+    )));
+    let failures = run_iec(&host, "tests.higraph", "Teile_Zaehlen");
+    assert_eq!(failures.len(), 1, "{failures:?}");
+    assert!(
+        failures[0].starts_with("HG9901 expect failed: at cycle 10 (t = 100 ms): "),
+        "{failures:?}"
+    );
+    assert!(failures[0].contains("Ampel.Zaehler.CV = 5"), "{failures:?}");
+    // arithmetic in a test expression is evaluated, not dropped
+    let host = ampel(Some((
+        "Ampel.Zaehler.CV * 2 - 1 = 9",
+        "Ampel.Zaehler.CV * 2 - 1 = 8",
+    )));
+    let failures = run_iec(&host, "tests.higraph", "Teile_Zaehlen");
+    assert_eq!(failures.len(), 1, "{failures:?}");
+    assert!(failures[0].contains("arithmetic in tests"), "{failures:?}");
+    // the timing of the light: one cycle later is wrong
+    let host = ampel(Some(("step 30; // 31", "step 29; // 30")));
+    let failures = run_iec(&host, "tests.higraph", "Ampel_Runde");
+    assert!(!failures.is_empty());
+}

@@ -656,3 +656,61 @@ fn an_until_failure_quotes_the_expression_as_written() {
          Lampe = FALSE"
     );
 }
+
+// ------------------------------------------------------------------- IEC charts (docs/iec.md)
+
+/// A temporary copy of `examples/ampel`, with `replace` applied to its tests.
+fn ampel(replace: Option<(&str, &str)>) -> TempTree {
+    let tree = TempTree::new();
+    let dir = repo_root().join("examples/ampel");
+    for name in ["higraph.toml", "ampel.higraph", "tests.higraph"] {
+        let mut text = std::fs::read_to_string(dir.join(name)).expect("an example file");
+        if let Some((from, to)) = replace {
+            text = text.replacen(from, to, 1);
+        }
+        tree.file(name, text);
+    }
+    tree
+}
+
+#[test]
+fn the_ampel_example_test_passes() {
+    let run = run_in(&repo_root(), &["test", "examples/ampel"]);
+    assert_eq!(run.status, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout
+            .contains("test Ampel_Runde ... ok (95 cycles, 9500 ms)"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout.contains("test Teile_Zaehlen ... ok ("),
+        "{}",
+        run.stdout
+    );
+}
+
+#[test]
+fn a_changed_expectation_of_the_ampel_example_fails() {
+    let tree = ampel(Some((
+        "expect Lampe_Gruen and not Lampe_Rot and Ampel.Phase = 2;",
+        "expect Lampe_Gruen and not Lampe_Rot and Ampel.Phase = 3;",
+    )));
+    let run = test(&tree, &["--filter", "Ampel_Runde", "--format", "json"]);
+    assert_eq!(run.status, 1, "{}{}", run.stdout, run.stderr);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON");
+    let failures = &json["tests"][0]["failures"];
+    assert_eq!(failures.as_array().map(Vec::len), Some(1), "{failures:#}");
+    assert_eq!(failures[0]["code"], "HG9901");
+    assert_eq!(
+        (
+            failures[0]["cycle"].as_u64(),
+            failures[0]["time_ms"].as_u64()
+        ),
+        (Some(43), Some(4300))
+    );
+    assert_eq!(
+        failures[0]["values"],
+        serde_json::json!({"Lampe_Gruen": true, "Lampe_Rot": false, "Ampel.Phase": 2})
+    );
+}

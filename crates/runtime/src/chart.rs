@@ -10,8 +10,8 @@
 use crate::eval::{self, Env};
 use crate::machine::{Fault, Machine};
 use crate::program::{
-    Chart, ChartTrans, ChartTransKind, Command, OpState, Program, Qualifier, SfcFlag, StepIdx,
-    StepMember, Stmt, Switching,
+    Chart, ChartTrans, ChartTransKind, Command, OpState, Place, Profile, Program, Qualifier,
+    SfcFlag, Statement, StepIdx, StepMember, Switching,
 };
 use crate::trace::{ChartFired, ChartRecord, CommandRecord};
 use crate::value::Value;
@@ -33,6 +33,9 @@ pub struct ChartRt {
     /// text order (§4.6).
     assoc: Vec<Vec<(usize, usize, usize)>>,
     queue: Vec<Command>,
+    /// IEC charts: the initial step is (re)activated at the next cycle (the first cycle, after
+    /// a restart or a `reset`).
+    iec_pending: bool,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -94,6 +97,13 @@ struct ActionMem {
     ds_rs: bool,
     sl_rs: bool,
     sl: Ton,
+    /// IEC: P1/P0 edge memories, the two timers of DL, and Q at the previous evaluation (for
+    /// the final scan of an action body).
+    p1_prev: bool,
+    p0_prev: bool,
+    dl_d: Ton,
+    dl_l: Ton,
+    q_prev: bool,
 }
 
 impl ChartRt {
@@ -140,6 +150,7 @@ impl ChartRt {
             actions: vec![ActionMem::default(); n_actions],
             assoc,
             queue: Vec::new(),
+            iec_pending: true,
         }
     }
 
@@ -199,6 +210,7 @@ impl ChartRt {
     /// or is suspended, flags, latches and action memories are cleared; queued commands stay
     /// for the next cycle.
     pub fn restart(&mut self) {
+        self.iec_pending = true;
         self.state = OpState::Ready;
         self.running = None;
         self.suspended = None;
@@ -398,20 +410,78 @@ impl<'a> Ctx<'a, '_> {
         Ok(eval::truth(&self.eval(rt, e)?))
     }
 
-    fn exec(&mut self, rt: &ChartRt, stmts: &[Stmt]) -> Result<(), Fault> {
+    /// Runs statements in order. Recurses into `IF`/`CASE` bodies: the depth is bounded by the
+    /// parser's nesting limit (HG0012), which the lowering inherits.
+    fn exec(&mut self, rt: &ChartRt, stmts: &[Statement]) -> Result<(), Fault> {
         for stmt in stmts {
-            let run = |ctx: &mut Self| -> Result<(), Fault> {
-                let v = ctx.eval(rt, &stmt.value)?;
-                ctx.m.write_value(&stmt.target, &eval::convert(v, stmt.ty))
+            let origin = match stmt {
+                Statement::Assign(s) => s.origin,
+                Statement::If { origin, .. } | Statement::Case { origin, .. } => *origin,
+                Statement::Call(c) => c.origin,
             };
-            run(self).map_err(|mut f| {
+            self.exec_one(rt, stmt).map_err(|mut f| {
                 if f.origin == crate::program::Origin::NONE {
-                    f.origin = stmt.origin;
+                    f.origin = origin;
                 }
                 f
             })?;
         }
         Ok(())
+    }
+
+    fn exec_one(&mut self, rt: &ChartRt, stmt: &Statement) -> Result<(), Fault> {
+        match stmt {
+            Statement::Assign(stmt) => {
+                let v = self.eval(rt, &stmt.value)?;
+                self.m.write_value(&stmt.target, &eval::convert(v, stmt.ty))
+            }
+            Statement::If { arms, else_, .. } => {
+                for (cond, body) in arms {
+                    if self.eval_bool(rt, cond)? {
+                        return self.exec(rt, body);
+                    }
+                }
+                self.exec(rt, else_)
+            }
+            Statement::Case {
+                selector,
+                arms,
+                else_,
+                ..
+            } => {
+                let v = self.eval(rt, selector)?;
+                let k = eval::integer_of(&v);
+                for (labels, body) in arms {
+                    if k.is_some_and(|k| labels.iter().any(|&(lo, hi)| lo <= k && k <= hi)) {
+                        return self.exec(rt, body);
+                    }
+                }
+                self.exec(rt, else_)
+            }
+            Statement::Call(call) => {
+                let ch: &'a Chart = self.ch;
+                let Some(fb) = ch.fbs.get(call.fb as usize) else {
+                    return Err(Fault::new(format!("no function block {}", call.fb)));
+                };
+                for (member, e) in &call.inputs {
+                    let v = self.eval(rt, e)?;
+                    let Some(cell) = fb.cell(*member) else {
+                        continue;
+                    };
+                    let v = eval::convert(v, member.ty());
+                    self.m.write_value(&Place::Cell(cell), &v)?;
+                }
+                crate::fb::call(self.m, fb)?;
+                for (member, target, ty) in &call.outputs {
+                    let Some(cell) = fb.cell(*member) else {
+                        continue;
+                    };
+                    let v = self.m.read_value(&Place::Cell(cell), member.ty())?;
+                    self.m.write_value(target, &eval::convert(v, *ty))?;
+                }
+                Ok(())
+            }
+        }
     }
 
     fn phase(&mut self, rt: &ChartRt, seq: usize, step: usize, phase: Phase) -> Result<(), Fault> {
@@ -752,9 +822,12 @@ impl<'a> Ctx<'a, '_> {
         self.exec(rt, &def.post)
     }
 
-    /// §4.6: action control; every action is written once, FALSE included.
+    /// §4.6: action control; every action is written once, FALSE included. IEC charts
+    /// (`docs/iec.md` §6, §7): an association counts while its step is active (there is no
+    /// running sequencer); `P1`, `P0`, `DL` join the qualifiers; an action with a body runs
+    /// it while active and once more when it stops (the final scan).
     fn actions(&mut self, rt: &mut ChartRt) -> Result<(), Fault> {
-        const QS: [Qualifier; 9] = [
+        const QS: [Qualifier; 12] = [
             Qualifier::N,
             Qualifier::S,
             Qualifier::R,
@@ -764,12 +837,16 @@ impl<'a> Ctx<'a, '_> {
             Qualifier::Sd,
             Qualifier::Ds,
             Qualifier::Sl,
+            Qualifier::P1,
+            Qualifier::P0,
+            Qualifier::Dl,
         ];
         let qi = |q: Qualifier| QS.iter().position(|x| *x == q).unwrap_or(0);
         let running = rt.running.map(|r| r.seq);
         let ch: &'a Chart = self.ch;
+        let iec = ch.profile == Profile::Iec;
         for (ai, action) in ch.actions.iter().enumerate() {
-            let mut input = [false; 9];
+            let mut input = [false; 12];
             // the action's one time t (§4.6, as IEC's action control block has one T): that
             // of the first timed association in text order whose step is active, else of the
             // first timed association
@@ -778,7 +855,7 @@ impl<'a> Ctx<'a, '_> {
                 let Some(a) = ch.sequencers[seq].steps[step].qualifiers.get(k) else {
                     continue;
                 };
-                let active = running == Some(seq) && rt.seqs[seq].steps[step].active;
+                let active = (iec || running == Some(seq)) && rt.seqs[seq].steps[step].active;
                 input[qi(a.qualifier)] |= active;
                 if let Some(e) = &a.time {
                     match timed {
@@ -793,7 +870,20 @@ impl<'a> Ctx<'a, '_> {
                 None => 0,
             };
             let dt = self.dt;
-            let [i_n, i_s, i_r, i_p, i_l, i_d, i_sd, i_ds, i_sl] = input;
+            let [
+                i_n,
+                i_s,
+                i_r,
+                i_p,
+                i_l,
+                i_d,
+                i_sd,
+                i_ds,
+                i_sl,
+                i_p1,
+                i_p0,
+                i_dl,
+            ] = input;
             let (t_l, t_d, t_sd, t_ds, t_sl) = (t, t, t, t, t);
             let mem = &mut rt.actions[ai];
             mem.s = !i_r && (i_s || mem.s);
@@ -811,15 +901,182 @@ impl<'a> Ctx<'a, '_> {
             mem.sl_rs = !i_r && (i_sl || mem.sl_rs);
             let sl_ton = mem.sl.eval(mem.sl_rs, t_sl, dt);
             let sl = mem.sl_rs && !sl_ton;
-            let x = i_n || mem.s || l || d || p || sd || mem.ds_rs || sl;
+            // DL: TON(I_DL, t) ∧ ¬TON(I_DL, 2·t)
+            let dl_on = mem.dl_d.eval(i_dl, t, dt);
+            let dl_off = mem.dl_l.eval(i_dl, t.saturating_mul(2), dt);
+            let dl = i_dl && dl_on && !dl_off;
+            let p1 = i_p1 && !mem.p1_prev;
+            mem.p1_prev = i_p1;
+            let p0 = !i_p0 && mem.p0_prev;
+            mem.p0_prev = i_p0;
+            let q = i_n || mem.s || l || d || p || sd || mem.ds_rs || sl || dl;
+            // A: Q or one of the pulses of P1/P0 (which have no final scan of their own)
+            let x = q || p1 || p0;
+            let final_scan = mem.q_prev && !q;
+            mem.q_prev = q;
             self.m.write_value(&action.place, &Value::Bool(x))?;
             if let Some(rec) = self.rec.as_deref_mut() {
                 rec.actions
                     .insert(action.name.clone(), serde_json::Value::Bool(x));
             }
+            if let Some(body) = &action.body
+                && (x || final_scan)
+            {
+                self.exec(rt, body)?;
+            }
         }
         Ok(())
     }
+
+    /// IEC: makes a step active with T := 0 and runs its `init` (`docs/iec.md` §7).
+    fn activate_iec(&mut self, rt: &mut ChartRt, seq: usize, step: usize) -> Result<(), Fault> {
+        if let Some(s) = rt.seqs[seq].steps.get_mut(step) {
+            s.active = true;
+            s.t = 0;
+            s.error = false;
+            s.latch = false;
+        }
+        self.phase(rt, seq, step, Phase::Init)
+    }
+
+    /// IEC: evolution of one sequencer (`docs/iec.md` §7 step 4): every enabled transition
+    /// whose condition holds fires, decided against memory as it is now; per step the first
+    /// candidate (its normal successor — `alt` branches left to right — then its jumps and
+    /// loops) wins; steps entered in this cycle are not decided.
+    fn evolve_iec(
+        &mut self,
+        rt: &mut ChartRt,
+        seq: usize,
+        entered: &mut [bool],
+    ) -> Result<(), Fault> {
+        let ch: &'a Chart = self.ch;
+        let def = &ch.sequencers[seq];
+        let n = def.steps.len();
+        let was_active: Vec<bool> = rt.seqs[seq].steps.iter().map(|s| s.active).collect();
+        let mut leaving = vec![false; n];
+        let mut fired: Vec<usize> = Vec::new();
+        for si in 0..n {
+            if !was_active[si] || leaving[si] || entered[si] || !self.past_min(rt, seq, si)? {
+                continue;
+            }
+            for &ti in &def.steps[si].candidates {
+                let Some(tr) = def.transitions.get(ti as usize) else {
+                    continue;
+                };
+                if tr.from.is_empty() {
+                    continue;
+                }
+                let mut ok = true;
+                for &f in &tr.from {
+                    let f = f as usize;
+                    if f >= n || !was_active[f] || leaving[f] || entered[f] {
+                        ok = false;
+                        break;
+                    }
+                    if f != si && !self.past_min(rt, seq, f)? {
+                        ok = false;
+                        break;
+                    }
+                }
+                if ok && self.condition(rt, tr)? {
+                    for &f in &tr.from {
+                        leaving[f as usize] = true;
+                    }
+                    fired.push(ti as usize);
+                    break;
+                }
+            }
+        }
+        for ti in fired {
+            let tr = &def.transitions[ti];
+            let mut from: Vec<usize> = tr.from.iter().map(|&f| f as usize).collect();
+            from.sort_unstable();
+            from.dedup();
+            let to: Vec<usize> = tr
+                .to
+                .iter()
+                .map(|&t| t as usize)
+                .filter(|&t| t < n)
+                .collect();
+            let kind = match tr.kind {
+                ChartTransKind::Trans => "trans",
+                ChartTransKind::Jump => "jump",
+                ChartTransKind::Loop => "loop",
+            };
+            self.fired(seq, kind, tr.name.as_deref(), &from, &to);
+            for &f in &from {
+                self.phase(rt, seq, f, Phase::Term)?;
+                rt.seqs[seq].steps[f].active = false;
+            }
+            for &t in &to {
+                entered[t] = true;
+                self.activate_iec(rt, seq, t)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One cycle of an IEC chart (`docs/iec.md` §7).
+fn cycle_iec(ctx: &mut Ctx<'_, '_>, rt: &mut ChartRt) -> Result<(), Fault> {
+    let ch = ctx.ch;
+    // 1. time
+    if !rt.iec_pending {
+        for q in &mut rt.seqs {
+            for s in &mut q.steps {
+                if s.active {
+                    s.t += ctx.dt;
+                }
+            }
+        }
+    }
+    // commands: only `reset`
+    for c in std::mem::take(&mut rt.queue) {
+        let accepted = c == Command::Reset;
+        if let Some(rec) = ctx.rec.as_deref_mut() {
+            rec.commands.push(CommandRecord {
+                command: c.name().to_owned(),
+                accepted,
+            });
+        }
+        if accepted {
+            rt.iec_pending = true;
+            for a in &mut rt.actions {
+                *a = ActionMem::default();
+            }
+        }
+    }
+    rt.state = OpState::Active;
+    // 2. the initial step
+    let mut entered: Vec<Vec<bool>> = rt.seqs.iter().map(|q| vec![false; q.steps.len()]).collect();
+    if std::mem::replace(&mut rt.iec_pending, false) {
+        for (seq, entered) in entered.iter_mut().enumerate() {
+            Ctx::deactivate_all(rt, seq);
+            if entered.is_empty() {
+                continue;
+            }
+            ctx.fired(seq, "start", None, &[], &[0]);
+            entered[0] = true;
+            ctx.activate_iec(rt, seq, 0)?;
+        }
+    }
+    // 3. pre, 4. evolution, 5. run
+    for (seq, entered) in entered.iter_mut().enumerate() {
+        ctx.exec(rt, &ch.sequencers[seq].pre)?;
+        ctx.evolve_iec(rt, seq, entered)?;
+        for si in 0..rt.seqs[seq].steps.len() {
+            if rt.seqs[seq].steps[si].active {
+                ctx.phase(rt, seq, si, Phase::Run)?;
+            }
+        }
+    }
+    // 6. action control
+    ctx.actions(rt)?;
+    // 7. post
+    for seq in &ch.sequencers {
+        ctx.exec(rt, &seq.post)?;
+    }
+    Ok(())
 }
 
 /// One chart cycle (§4.3). `first` is the first cycle of the test or after a restart;
@@ -848,6 +1105,11 @@ pub fn cycle(
             chart: ch.name.clone(),
             ..ChartRecord::default()
         };
+    }
+    if ch.profile == Profile::Iec {
+        let result = cycle_iec(&mut ctx, rt);
+        record_state(&mut ctx, rt);
+        return result;
     }
     for q in &mut rt.seqs {
         q.finished_now = false;
@@ -960,6 +1222,13 @@ pub fn cycle(
     }
     // 6. action control
     ctx.actions(rt)?;
+    record_state(&mut ctx, rt);
+    Ok(())
+}
+
+/// The state part of a chart's record: operating state, running and suspended sequencer,
+/// active steps.
+fn record_state(ctx: &mut Ctx<'_, '_>, rt: &ChartRt) {
     if let Some(rec) = ctx.rec.as_deref_mut() {
         rec.state = rt.state.name().to_owned();
         rec.running = rt.running.map(|r| rt.seqs[r.seq].name.clone());
@@ -975,5 +1244,4 @@ pub fn cycle(
             })
             .collect();
     }
-    Ok(())
 }

@@ -7,7 +7,9 @@
 use std::cmp::Ordering;
 
 use crate::machine::{Fault, Machine};
-use crate::program::{CmpOp, Expr, Path, PathKind, Predef, Program, SfcFlag, StepIdx, StepMember};
+use crate::program::{
+    ArithOp, CmpOp, Expr, Path, PathKind, Predef, Program, SfcFlag, StepIdx, StepMember,
+};
 use crate::value::{Ty, Value};
 
 /// What an expression can see besides memory: chart and step state.
@@ -57,11 +59,15 @@ pub fn eval(
             Work::Visit(e) => match e {
                 Expr::Const(v) => values.push(v.clone()),
                 Expr::Read(p) => values.push(read_path(p, m, program, env)?),
-                Expr::Not(a) => {
+                Expr::Not(a) | Expr::Neg(a) => {
                     work.push(Work::Apply(e));
                     work.push(Work::Visit(a));
                 }
-                Expr::And(a, b) | Expr::Or(a, b) | Expr::Xor(a, b) | Expr::Cmp(_, a, b) => {
+                Expr::And(a, b)
+                | Expr::Or(a, b)
+                | Expr::Xor(a, b)
+                | Expr::Cmp(_, a, b)
+                | Expr::Arith(_, a, b) => {
                     work.push(Work::Apply(e));
                     work.push(Work::Visit(b));
                     work.push(Work::Visit(a));
@@ -73,6 +79,7 @@ pub fn eval(
                         let a = values.pop().unwrap_or(Value::Bool(false));
                         Value::Bool(!truth(&a))
                     }
+                    Expr::Neg(_) => neg(values.pop().unwrap_or(Value::Int(0))),
                     _ => {
                         let b = values.pop().unwrap_or(Value::Bool(false));
                         let a = values.pop().unwrap_or(Value::Bool(false));
@@ -81,6 +88,7 @@ pub fn eval(
                             Expr::Or(..) => Value::Bool(truth(&a) || truth(&b)),
                             Expr::Xor(..) => Value::Bool(truth(&a) != truth(&b)),
                             Expr::Cmp(op, ..) => Value::Bool(compare(*op, &a, &b)),
+                            Expr::Arith(op, ..) => arith(*op, a, b)?,
                             // Leaves are never scheduled for `Apply`.
                             _ => a,
                         }
@@ -174,8 +182,12 @@ pub fn paths(expr: &Expr) -> Vec<&Path> {
                     out.push(p);
                 }
             }
-            Expr::Not(a) => stack.push(a),
-            Expr::And(a, b) | Expr::Or(a, b) | Expr::Xor(a, b) | Expr::Cmp(_, a, b) => {
+            Expr::Not(a) | Expr::Neg(a) => stack.push(a),
+            Expr::And(a, b)
+            | Expr::Or(a, b)
+            | Expr::Xor(a, b)
+            | Expr::Cmp(_, a, b)
+            | Expr::Arith(_, a, b) => {
                 stack.push(b);
                 stack.push(a);
             }
@@ -279,6 +291,12 @@ pub fn compare(op: CmpOp, a: &Value, b: &Value) -> bool {
     }
 }
 
+/// The integer value of an integer-like value (BOOL, BYTE…DINT, TIME, …), `None` for REAL,
+/// STRING and the like: a `CASE` selector.
+pub fn integer_of(v: &Value) -> Option<i64> {
+    integer(v)
+}
+
 fn integer(v: &Value) -> Option<i64> {
     Some(match *v {
         Value::Bool(b) => i64::from(b),
@@ -340,5 +358,82 @@ pub fn convert(value: Value, ty: Ty) -> Value {
                 .and_then(|bits| Value::from_bits(t, bits))
                 .unwrap_or_else(|| Value::zero(t)),
         },
+    }
+}
+
+/// Unary minus (`docs/iec.md` §4): INT and DINT wrap around (`-(-32768) = -32768`), REAL and
+/// TIME negate; another value is returned unchanged (the checker rejects it).
+pub fn neg(v: Value) -> Value {
+    match v {
+        Value::Int(x) => Value::Int(x.wrapping_neg()),
+        Value::Dint(x) => Value::Dint(x.wrapping_neg()),
+        Value::Time(x) => Value::Time(x.wrapping_neg()),
+        Value::Real(x) => Value::Real(-x),
+        other => other,
+    }
+}
+
+/// `a op b` (`docs/iec.md` §4). INT, DINT and TIME wrap around in their width (two's
+/// complement); `/` truncates toward zero; `MOD` has the sign of the dividend; integer division
+/// or `MOD` by zero (and `TIME / 0`) is a runtime fault. REAL is IEEE single precision
+/// (`x / 0.0` is an infinity or NaN, no fault). `TIME * n` and `TIME / n` take an INT or DINT
+/// `n`. Operands of different integer kinds are combined in the wider one (the lowering has
+/// already adapted integer constants, so this only happens with hand-built programs).
+pub fn arith(op: ArithOp, a: Value, b: Value) -> Result<Value, Fault> {
+    if let (Value::Real(x), Value::Real(y)) = (&a, &b) {
+        let (x, y) = (*x, *y);
+        return Ok(Value::Real(match op {
+            ArithOp::Add => x + y,
+            ArithOp::Sub => x - y,
+            ArithOp::Mul => x * y,
+            ArithOp::Div => x / y,
+            // the checker rejects REAL MOD; IEEE remainder with the sign of the dividend
+            ArithOp::Mod => x % y,
+        }));
+    }
+    if matches!(a, Value::Real(_)) || matches!(b, Value::Real(_)) {
+        let x = real_of(&a);
+        let y = real_of(&b);
+        return arith(op, Value::Real(x), Value::Real(y));
+    }
+    // the width of the result: TIME if either is TIME, else DINT if either is DINT, else INT
+    let time = matches!(a, Value::Time(_)) || matches!(b, Value::Time(_));
+    let wide = time
+        || matches!(a, Value::Dint(_) | Value::Dword(_))
+        || matches!(b, Value::Dint(_) | Value::Dword(_));
+    let (Some(x), Some(y)) = (integer(&a), integer(&b)) else {
+        return Ok(a);
+    };
+    let r = match op {
+        ArithOp::Add => x.wrapping_add(y),
+        ArithOp::Sub => x.wrapping_sub(y),
+        ArithOp::Mul => x.wrapping_mul(y),
+        ArithOp::Div | ArithOp::Mod => {
+            if y == 0 {
+                let what = if op == ArithOp::Div {
+                    "division"
+                } else {
+                    "MOD"
+                };
+                return Err(Fault::new(format!("{what} by zero")));
+            }
+            // i64 holds every 32-bit quotient except none: |x| ≤ 2^31, so no overflow here;
+            // the result is wrapped to the width below (-2^31 / -1 = -2^31 as on the PLC)
+            if op == ArithOp::Div { x / y } else { x % y }
+        }
+    };
+    Ok(if time {
+        Value::Time(r as i32)
+    } else if wide {
+        Value::Dint(r as i32)
+    } else {
+        Value::Int(r as i16)
+    })
+}
+
+fn real_of(v: &Value) -> f32 {
+    match v {
+        Value::Real(x) => *x,
+        other => integer(other).map_or(0.0, |i| i as f32),
     }
 }

@@ -1,5 +1,6 @@
 //! The simulated machine of `runtime.md`: memory, registers, timers and counters (`machine`),
-//! the STL interpreter (`stl`), one group call (`group`), one chart cycle (`chart`) and the test
+//! the STL interpreter (`stl`), one group call (`group`), one chart cycle (`chart`, PCS 7 and IEC 61131-3
+//! profiles), the standard function blocks of IEC charts (`fb`) and the test
 //! runner with its traces (`test`, `trace`).
 //!
 //! The input is a [`program::Program`]: a lowered, resolved, position-free model produced by
@@ -9,6 +10,7 @@
 
 pub mod chart;
 pub mod eval;
+pub mod fb;
 pub mod group;
 pub mod machine;
 pub mod program;

@@ -822,11 +822,28 @@ pub enum Qualifier {
     Sd,
     Ds,
     Sl,
+    /// IEC: a pulse when the step becomes active (rising edge of its input).
+    P1,
+    /// IEC: a pulse when the step becomes inactive (falling edge of its input).
+    P0,
+    /// IEC: delayed and limited — on from `t` after the input rose until `2·t`, while it stays.
+    Dl,
+}
+
+/// The chart profile (`profile pcs7;` default, `profile iec;`), `docs/iec.md`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Profile {
+    #[default]
+    Pcs7,
+    Iec,
 }
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chart {
     pub name: String,
+    /// PCS 7 (operating states, several sequencers) or IEC 61131-3 (one sequencer running from
+    /// the first cycle, `docs/iec.md` §7).
+    pub profile: Profile,
     /// Chart variables: `(name, cell)`.
     pub vars: Vec<(String, CellId)>,
     /// `mode auto;` (default manual).
@@ -837,16 +854,27 @@ pub struct Chart {
     pub time_monitoring: bool,
     pub autostart: bool,
     pub sequencers: Vec<Sequencer>,
-    /// The actions of §4.6: every BOOL place named by a qualifier, once.
+    /// The actions of §4.6: every BOOL place named by a qualifier, once; in an IEC chart also
+    /// every `action` member (with a body).
     pub actions: Vec<Action>,
+    /// The standard function block instances of the chart (IEC charts; `docs/iec.md` §3),
+    /// indexed by [`FbId`].
+    pub fbs: Vec<FbInstance>,
 }
 
 /// One action of §4.6.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Action {
-    /// How the trace names it (the operand as written first, without white space).
+    /// How the trace names it (the operand as written first, without white space; the action
+    /// name for an `action` member).
     pub name: String,
+    /// Written with the action's activity each cycle (a BOOL; for an `action` member a hidden
+    /// cell of the lowering).
     pub place: Place,
+    /// The statements of an `action` member (IEC charts): run in every cycle in which the action
+    /// is active and once more in the cycle in which it stops (the final scan). `None` for a
+    /// BOOL variable action.
+    pub body: Option<Vec<Statement>>,
 }
 
 /// A step index within its sequencer.
@@ -861,8 +889,8 @@ pub struct Sequencer {
     pub prio: u32,
     /// Start condition entries, ANDed; empty = FALSE.
     pub start: Vec<Expr>,
-    pub pre: Vec<Stmt>,
-    pub post: Vec<Stmt>,
+    pub pre: Vec<Statement>,
+    pub post: Vec<Statement>,
     /// Steps in text order; the first is the start step, the last the end step.
     pub steps: Vec<Step>,
     /// `trans`, `jump` and `loop` units, text order.
@@ -872,9 +900,9 @@ pub struct Sequencer {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Step {
     pub name: String,
-    pub init: Vec<Stmt>,
-    pub run: Vec<Stmt>,
-    pub term: Vec<Stmt>,
+    pub init: Vec<Statement>,
+    pub run: Vec<Statement>,
+    pub term: Vec<Statement>,
     pub qualifiers: Vec<Association>,
     pub min: Option<Expr>,
     pub max: Option<Expr>,
@@ -916,7 +944,235 @@ pub struct ChartTrans {
     pub origin: Origin,
 }
 
-/// A chart statement `path := expr;`.
+/// A chart statement: an assignment ([`Stmt`]) or, in IEC charts, a structured statement
+/// (`docs/iec.md` §5). Nesting is bounded by the parser's nesting limit (HG0012).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Statement {
+    Assign(Stmt),
+    /// `IF c1 THEN .. ELSIF c2 THEN .. ELSE .. END_IF;`: the first arm whose condition holds
+    /// runs, else `else_`.
+    If {
+        arms: Vec<(Expr, Vec<Statement>)>,
+        else_: Vec<Statement>,
+        origin: Origin,
+    },
+    /// `CASE sel OF labels: .. ELSE .. END_CASE;`: the first arm one of whose inclusive ranges
+    /// `(low, high)` holds the selector runs, else `else_`.
+    Case {
+        selector: Expr,
+        arms: Vec<CaseArm>,
+        else_: Vec<Statement>,
+        origin: Origin,
+    },
+    /// `Timer(IN := x, PT := T#5S, Q => y);`
+    Call(FbCall),
+}
+
+/// An arm of a `CASE`: its labels as inclusive ranges `(low, high)` (a single label `n` is
+/// `(n, n)`), and its statements.
+pub type CaseArm = (Vec<(i64, i64)>, Vec<Statement>);
+
+impl From<Stmt> for Statement {
+    fn from(s: Stmt) -> Statement {
+        Statement::Assign(s)
+    }
+}
+
+/// A call of a standard function block instance: the inputs are evaluated and written into the
+/// instance's input cells (left to right), the block runs once, then the outputs are copied.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FbCall {
+    /// Index into [`Chart::fbs`].
+    pub fb: FbId,
+    pub inputs: Vec<(FbMember, Expr)>,
+    /// `(output member, target, target type)`.
+    pub outputs: Vec<(FbMember, Place, Ty)>,
+    pub origin: Origin,
+}
+
+/// Index into [`Chart::fbs`].
+pub type FbId = u32;
+
+/// A standard function block type of IEC 61131-3 (`docs/iec.md` §3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FbType {
+    Ton,
+    Tof,
+    Tp,
+    RTrig,
+    FTrig,
+    Ctu,
+    Ctd,
+    Ctud,
+    Sr,
+    Rs,
+}
+
+/// A member (input or output) of a standard function block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FbMember {
+    In,
+    Pt,
+    Q,
+    Et,
+    Clk,
+    Cu,
+    Cd,
+    R,
+    Ld,
+    Pv,
+    Qu,
+    Qd,
+    Cv,
+    S1,
+    S,
+    R1,
+    Q1,
+}
+
+impl FbMember {
+    pub fn name(self) -> &'static str {
+        use FbMember::*;
+        match self {
+            In => "IN",
+            Pt => "PT",
+            Q => "Q",
+            Et => "ET",
+            Clk => "CLK",
+            Cu => "CU",
+            Cd => "CD",
+            R => "R",
+            Ld => "LD",
+            Pv => "PV",
+            Qu => "QU",
+            Qd => "QD",
+            Cv => "CV",
+            S1 => "S1",
+            S => "S",
+            R1 => "R1",
+            Q1 => "Q1",
+        }
+    }
+
+    /// The member's type: TIME for `PT`/`ET`, INT for `PV`/`CV`, else BOOL.
+    pub fn ty(self) -> Ty {
+        match self {
+            FbMember::Pt | FbMember::Et => Ty::Time,
+            FbMember::Pv | FbMember::Cv => Ty::Int,
+            _ => Ty::Bool,
+        }
+    }
+}
+
+impl FbType {
+    pub const ALL: [FbType; 10] = [
+        FbType::Ton,
+        FbType::Tof,
+        FbType::Tp,
+        FbType::RTrig,
+        FbType::FTrig,
+        FbType::Ctu,
+        FbType::Ctd,
+        FbType::Ctud,
+        FbType::Sr,
+        FbType::Rs,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            FbType::Ton => "TON",
+            FbType::Tof => "TOF",
+            FbType::Tp => "TP",
+            FbType::RTrig => "R_TRIG",
+            FbType::FTrig => "F_TRIG",
+            FbType::Ctu => "CTU",
+            FbType::Ctd => "CTD",
+            FbType::Ctud => "CTUD",
+            FbType::Sr => "SR",
+            FbType::Rs => "RS",
+        }
+    }
+
+    /// By name, case-insensitive.
+    pub fn from_name(name: &str) -> Option<FbType> {
+        FbType::ALL
+            .into_iter()
+            .find(|t| t.name().eq_ignore_ascii_case(name))
+    }
+
+    pub fn inputs(self) -> &'static [FbMember] {
+        use FbMember::*;
+        match self {
+            FbType::Ton | FbType::Tof | FbType::Tp => &[In, Pt],
+            FbType::RTrig | FbType::FTrig => &[Clk],
+            FbType::Ctu => &[Cu, R, Pv],
+            FbType::Ctd => &[Cd, Ld, Pv],
+            FbType::Ctud => &[Cu, Cd, R, Ld, Pv],
+            FbType::Sr => &[S1, R],
+            FbType::Rs => &[S, R1],
+        }
+    }
+
+    pub fn outputs(self) -> &'static [FbMember] {
+        use FbMember::*;
+        match self {
+            FbType::Ton | FbType::Tof | FbType::Tp => &[Q, Et],
+            FbType::RTrig | FbType::FTrig => &[Q],
+            FbType::Ctu | FbType::Ctd => &[Q, Cv],
+            FbType::Ctud => &[Qu, Qd, Cv],
+            FbType::Sr | FbType::Rs => &[Q1],
+        }
+    }
+
+    /// Inputs, then outputs: the order of [`FbInstance::members`].
+    pub fn members(self) -> impl Iterator<Item = FbMember> {
+        self.inputs().iter().chain(self.outputs()).copied()
+    }
+
+    /// A member by name, case-insensitive.
+    pub fn member(self, name: &str) -> Option<FbMember> {
+        self.members().find(|m| m.name().eq_ignore_ascii_case(name))
+    }
+
+    /// The types of the hidden state cells ([`FbInstance::state`]): timers keep the previous
+    /// `IN` (BOOL) and the virtual time (ms, DWORD, compared with wrap-around) at which their
+    /// interval started, TP also whether a pulse runs; edge detectors and counters the
+    /// previous edge input(s); SR/RS none (Q1 is their state).
+    pub fn state_tys(self) -> &'static [Ty] {
+        match self {
+            FbType::Ton | FbType::Tof => &[Ty::Bool, Ty::Dword],
+            FbType::Tp => &[Ty::Bool, Ty::Dword, Ty::Bool],
+            FbType::RTrig | FbType::FTrig | FbType::Ctu | FbType::Ctd => &[Ty::Bool],
+            FbType::Ctud => &[Ty::Bool, Ty::Bool],
+            FbType::Sr | FbType::Rs => &[],
+        }
+    }
+}
+
+/// One standard function block instance (a `stat` variable of an IEC chart). Its members and
+/// its hidden state are ordinary cells, so `Chart.Timer.Q` is a cell read, `Timer.PT := ..` a
+/// cell write, and a cold restart resets the instance with the other cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FbInstance {
+    pub name: String,
+    pub ty: FbType,
+    /// One cell per member, in [`FbType::members`] order (types [`FbMember::ty`]).
+    pub members: Vec<CellId>,
+    /// One cell per [`FbType::state_tys`] entry.
+    pub state: Vec<CellId>,
+}
+
+impl FbInstance {
+    /// The cell of a member.
+    pub fn cell(&self, member: FbMember) -> Option<CellId> {
+        self.ty
+            .members()
+            .position(|m| m == member)
+            .and_then(|i| self.members.get(i).copied())
+    }
+}
+
+/// A chart assignment `path := expr;`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stmt {
     pub target: Place,
@@ -940,6 +1196,20 @@ pub enum Expr {
     Or(Box<Expr>, Box<Expr>),
     Xor(Box<Expr>, Box<Expr>),
     Cmp(CmpOp, Box<Expr>, Box<Expr>),
+    /// Unary minus (INT, DINT wrap around; REAL; TIME).
+    Neg(Box<Expr>),
+    /// `+ - * / MOD` (`docs/iec.md` §4). The lowering gives both operands the result type
+    /// (or TIME and an integer for `TIME * n`, `TIME / n`).
+    Arith(ArithOp, Box<Expr>, Box<Expr>),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ArithOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -18,7 +18,9 @@ use std::fmt::Write as _;
 
 use crate::eval;
 use crate::machine::Fault;
-use crate::program::{CmpOp, Expr, Origin, PathKind, Place, Program, TestStmt, TestStmtKind};
+use crate::program::{
+    ArithOp, CmpOp, Expr, Origin, PathKind, Place, Program, TestStmt, TestStmtKind,
+};
 use crate::sim::Sim;
 use crate::trace::{Before, CycleRecord, Initial, OrderedMap, Trace, json_value};
 use crate::value::Value;
@@ -602,7 +604,7 @@ fn date_text(days: i64) -> String {
 }
 
 /// An expression printed back (HG9902's `'{expr}'`): `or` < `xor` < `and` < comparison <
-/// `not`; parentheses only where needed. Iterative, so depth costs no stack.
+/// `+ -` < `* / MOD` < `not`, unary `-`; parentheses only where needed. Iterative, so depth costs no stack.
 pub fn expr_text(expr: &Expr) -> String {
     enum Item<'e> {
         Expr(&'e Expr, u8),
@@ -614,8 +616,10 @@ pub fn expr_text(expr: &Expr) -> String {
             Expr::Xor(..) => 2,
             Expr::And(..) => 3,
             Expr::Cmp(..) => 4,
-            Expr::Not(_) => 5,
-            Expr::Const(_) | Expr::Read(_) => 6,
+            Expr::Arith(ArithOp::Add | ArithOp::Sub, ..) => 5,
+            Expr::Arith(..) => 6,
+            Expr::Not(_) | Expr::Neg(_) => 7,
+            Expr::Const(_) | Expr::Read(_) => 8,
         }
     }
     let mut out = String::new();
@@ -639,7 +643,23 @@ pub fn expr_text(expr: &Expr) -> String {
             Expr::Read(path) => out.push_str(&path.text),
             Expr::Not(inner) => {
                 out.push_str("not ");
-                stack.push(Item::Expr(inner, 5));
+                stack.push(Item::Expr(inner, 7));
+            }
+            Expr::Neg(inner) => {
+                out.push('-');
+                stack.push(Item::Expr(inner, 7));
+            }
+            Expr::Arith(op, a, b) => {
+                let op = match op {
+                    ArithOp::Add => " + ",
+                    ArithOp::Sub => " - ",
+                    ArithOp::Mul => " * ",
+                    ArithOp::Div => " / ",
+                    ArithOp::Mod => " MOD ",
+                };
+                stack.push(Item::Expr(b, own + 1));
+                stack.push(Item::Text(op));
+                stack.push(Item::Expr(a, own));
             }
             Expr::Or(a, b) | Expr::Xor(a, b) | Expr::And(a, b) => {
                 let op = match expr {

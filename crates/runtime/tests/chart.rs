@@ -1106,11 +1106,8 @@ fn pre_and_post_run_around_the_steps() {
         vec![trans("T", &[0], &[1], vec![rd("M0.0", m(0, 0))])],
     );
     // pre sets M0.0, so T sees it in the same cycle; post copies S1's activity
-    sq.pre = vec![set_true(m(0, 0))];
-    sq.post = vec![assign(
-        m(0, 1),
-        step_path("S1", 0, 0, 0, StepMember::Active),
-    )];
+    sq.pre = vec![set_true(m(0, 0)).into()];
+    sq.post = vec![assign(m(0, 1), step_path("S1", 0, 0, 0, StepMember::Active)).into()];
     let mut s = Sim::new(chart("C", vec![], vec![sq]), 10);
     s.command(Command::Start);
     s.step();

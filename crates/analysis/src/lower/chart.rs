@@ -6,8 +6,9 @@
 use std::collections::HashMap;
 
 use higraph_runtime::program::{
-    Action, Association, Chart, ChartTrans, ChartTransKind, CmpOp, Expr, Path, PathKind, Place,
-    Qualifier, Sequencer, SfcFlag, Step, StepIdx, Stmt, Switching, TransIdx,
+    Action, ArithOp, Association, Chart, ChartTrans, ChartTransKind, CmpOp, Expr, FbCall, FbId,
+    FbInstance, FbType, Path, PathKind, Place, Profile, Qualifier, Sequencer, SfcFlag, Statement,
+    Step, StepIdx, StepMember, Stmt, Switching, TransIdx,
 };
 use higraph_runtime::value::{Ty, Value};
 use higraph_syntax::literal::{self, LiteralClass};
@@ -71,6 +72,17 @@ struct ChartLowering<'l, 'a> {
     file: File,
     item: u32,
     var_cells: Vec<(u32, Ty)>,
+    /// IEC charts (`docs/iec.md`): `Step.X`/`Step.T`, function block members and actions are
+    /// nameable.
+    iec: bool,
+    /// The chart's index in `program.charts` (it is pushed when lowered).
+    chart_index: u32,
+    /// Function block instances by variable key.
+    fbs: HashMap<String, (FbId, FbInstance)>,
+    /// Steps by key: the first step of that name in the chart (sequencer, step).
+    steps: HashMap<String, (u32, StepIdx)>,
+    /// `action` members by key: their index in the chart's actions.
+    action_names: HashMap<String, u32>,
 }
 
 impl ChartLowering<'_, '_> {
@@ -80,6 +92,13 @@ impl ChartLowering<'_, '_> {
 
     /// Resolves a path: its kind and type (`None` when unknown, e.g. an external reference).
     fn path(&mut self, path: &ast::Path, hint: Option<Ty>) -> Option<Path> {
+        if let Some((kind, ty)) = self.iec_path(path) {
+            return Some(Path {
+                text: compact(path.syntax()),
+                ty,
+                kind,
+            });
+        }
         let target = operands::resolve(
             &mut self.ctx,
             &mut self.scope,
@@ -126,6 +145,37 @@ impl ChartLowering<'_, '_> {
         Some(Path { text, ty, kind })
     }
 
+    /// In an IEC chart, `Fb.Member` (a cell of the instance) and `Step.X` / `Step.T`.
+    fn iec_path(&self, path: &ast::Path) -> Option<(PathKind, Ty)> {
+        if !self.iec || path.address().is_some() || path.symbol().is_some() {
+            return None;
+        }
+        let segments: Vec<String> = path.segments().map(|s| s.text()).collect();
+        let [first, member] = segments.as_slice() else {
+            return None;
+        };
+        let first = crate::index::key(first);
+        if let Some((_, fb)) = self.fbs.get(&first) {
+            let m = fb.ty.member(member)?;
+            return Some((PathKind::Place(Place::Cell(fb.cell(m)?)), m.ty()));
+        }
+        let &(sequencer, step) = self.steps.get(&first)?;
+        let (member, ty) = match member.to_ascii_uppercase().as_str() {
+            "X" => (StepMember::Active, Ty::Bool),
+            "T" => (StepMember::Time, Ty::Time),
+            _ => return None,
+        };
+        Some((
+            PathKind::Step {
+                chart: self.chart_index,
+                sequencer,
+                step,
+                member,
+            },
+            ty,
+        ))
+    }
+
     /// The type of an expression before lowering, `None` for an integer literal (it adapts)
     /// and unknown paths.
     fn static_ty(&mut self, e: &ast::Expr) -> Option<Ty> {
@@ -139,6 +189,9 @@ impl ChartLowering<'_, '_> {
                 }
             }
             ast::Expr::Path(path) => {
+                if let Some((_, ty)) = self.iec_path(path) {
+                    return Some(ty);
+                }
                 let target = operands::resolve(
                     &mut self.ctx,
                     &mut self.scope,
@@ -164,6 +217,18 @@ impl ChartLowering<'_, '_> {
             }
             ast::Expr::Paren(p) => p.expr().and_then(|e| self.static_ty(&e)),
             ast::Expr::TestPath(_) => None,
+            // Unary minus and arithmetic: the operands' type (TIME * n is TIME); depth bounded
+            // by the parser's nesting limit.
+            ast::Expr::Prefix(p) if p.op() == Some(ast::PrefixOp::Neg) => {
+                p.operand().and_then(|e| self.static_ty(&e))
+            }
+            ast::Expr::Bin(b) if b.op().is_some_and(ast::BinOp::is_arithmetic) => {
+                let l = b.lhs().and_then(|e| self.static_ty(&e));
+                match l {
+                    Some(ty) => Some(ty),
+                    None => b.rhs().and_then(|e| self.static_ty(&e)),
+                }
+            }
             ast::Expr::Prefix(_) | ast::Expr::Bin(_) => Some(Ty::Bool),
         }
     }
@@ -179,7 +244,33 @@ impl ChartLowering<'_, '_> {
             ast::Expr::Path(path) => Expr::Read(self.path(path, hint)?),
             ast::Expr::TestPath(_) => return None,
             ast::Expr::Paren(p) => self.expr(&p.expr()?, hint)?,
+            ast::Expr::Prefix(p) if p.op() == Some(ast::PrefixOp::Neg) => {
+                Expr::Neg(Box::new(self.expr(&p.operand()?, hint)?))
+            }
             ast::Expr::Prefix(p) => Expr::Not(Box::new(self.expr(&p.operand()?, Some(Ty::Bool))?)),
+            ast::Expr::Bin(b) if b.op().is_some_and(ast::BinOp::is_arithmetic) => {
+                let op = match b.op()? {
+                    ast::BinOp::Add => ArithOp::Add,
+                    ast::BinOp::Sub => ArithOp::Sub,
+                    ast::BinOp::Mul => ArithOp::Mul,
+                    ast::BinOp::Div => ArithOp::Div,
+                    _ => ArithOp::Mod,
+                };
+                let (lhs, rhs) = (b.lhs()?, b.rhs()?);
+                let lt = self.static_ty(&lhs);
+                let rt = self.static_ty(&rhs);
+                // An integer constant adopts the other operand's type (`docs/iec.md` §4); the
+                // factor of `TIME * n` / `TIME / n` is a DINT when it is a constant.
+                let scaled = lt == Some(Ty::Time) && matches!(op, ArithOp::Mul | ArithOp::Div);
+                let ty = lt.or(rt).or(hint);
+                let l = self.expr(&lhs, ty)?;
+                let r = if scaled {
+                    self.expr(&rhs, rt.or(Some(Ty::Dint)))?
+                } else {
+                    self.expr(&rhs, rt.or(ty))?
+                };
+                Expr::Arith(op, Box::new(l), Box::new(r))
+            }
             ast::Expr::Bin(b) => {
                 let op = b.op_text()?;
                 let (lhs, rhs) = (b.lhs()?, b.rhs()?);
@@ -218,38 +309,126 @@ impl ChartLowering<'_, '_> {
         }
     }
 
-    /// `path := expr;` statements of a node's body.
-    fn statements(&mut self, node: &higraph_syntax::SyntaxNode) -> Vec<Stmt> {
+    /// The statements of a node's body.
+    fn statements(&mut self, node: &higraph_syntax::SyntaxNode) -> Vec<Statement> {
+        self.stmt_list(crate::rules::chart::body_children(node).filter_map(ast::Stmt::cast))
+    }
+
+    /// Lowers statements; recurses into `IF`/`CASE` bodies, whose depth the parser's nesting
+    /// limit (HG0012) bounds. A statement that does not lower (an unknown path) is left out.
+    fn stmt_list(&mut self, stmts: impl Iterator<Item = ast::Stmt>) -> Vec<Statement> {
         let mut out = Vec::new();
-        for assignment in crate::rules::chart::body_children(node).filter_map(ast::Assignment::cast)
-        {
-            let Some(target) = assignment.target() else {
-                continue;
-            };
-            let Some(value) = assignment.value() else {
-                continue;
-            };
-            let hint = self.static_ty(&value);
-            let Some(path) = self.path(&target, hint) else {
-                continue;
-            };
-            let place = match path.kind {
-                PathKind::Place(place) => place,
-                // Writes to `SFC.` paths are ignored.
-                _ => Place::Const(Value::Bool(false)),
-            };
-            let Some(value) = self.expr(&value, Some(path.ty)) else {
-                continue;
-            };
-            let origin = self.origin(crate::rules::chart::without_semi(assignment.syntax()));
-            out.push(Stmt {
-                target: place,
-                ty: path.ty,
-                value,
-                origin,
-            });
+        for stmt in stmts {
+            if let Some(s) = self.stmt(&stmt) {
+                out.push(s);
+            }
         }
         out
+    }
+
+    fn stmt(&mut self, stmt: &ast::Stmt) -> Option<Statement> {
+        let range = crate::rules::chart::without_semi(stmt.syntax());
+        match stmt {
+            ast::Stmt::Assignment(assignment) => {
+                let target = assignment.target()?;
+                let value = assignment.value()?;
+                let hint = self.static_ty(&value);
+                let path = self.path(&target, hint)?;
+                let place = match path.kind {
+                    PathKind::Place(place) => place,
+                    // Writes to `SFC.` paths (and step values) are ignored.
+                    _ => Place::Const(Value::Bool(false)),
+                };
+                let value = self.expr(&value, Some(path.ty))?;
+                let origin = self.origin(range);
+                Some(Statement::Assign(Stmt {
+                    target: place,
+                    ty: path.ty,
+                    value,
+                    origin,
+                }))
+            }
+            ast::Stmt::If(s) => {
+                let origin = self.origin(range);
+                let mut arms = Vec::new();
+                let cond = self.expr(&s.condition()?, Some(Ty::Bool))?;
+                arms.push((cond, self.stmt_list(s.then_statements())));
+                for elsif in s.elsifs() {
+                    let Some(cond) = elsif
+                        .condition()
+                        .and_then(|c| self.expr(&c, Some(Ty::Bool)))
+                    else {
+                        continue;
+                    };
+                    arms.push((cond, self.stmt_list(elsif.statements())));
+                }
+                let else_ = s
+                    .else_clause()
+                    .map(|e| self.stmt_list(e.statements()))
+                    .unwrap_or_default();
+                Some(Statement::If {
+                    arms,
+                    else_,
+                    origin,
+                })
+            }
+            ast::Stmt::Case(s) => {
+                let origin = self.origin(range);
+                let sel = s.selector()?;
+                let hint = self.static_ty(&sel).or(Some(Ty::Dint));
+                let selector = self.expr(&sel, hint)?;
+                let mut arms = Vec::new();
+                for arm in s.arms() {
+                    let labels: Vec<(i64, i64)> = arm
+                        .labels()
+                        .filter_map(|l| Some((l.low()?, l.high()?)))
+                        .collect();
+                    arms.push((labels, self.stmt_list(arm.statements())));
+                }
+                let else_ = s
+                    .else_clause()
+                    .map(|e| self.stmt_list(e.statements()))
+                    .unwrap_or_default();
+                Some(Statement::Case {
+                    selector,
+                    arms,
+                    else_,
+                    origin,
+                })
+            }
+            ast::Stmt::Call(call) => {
+                let callee = crate::index::key(&call.callee()?.text());
+                let (fb, ty) = self.fbs.get(&callee).map(|(id, fb)| (*id, fb.ty))?;
+                let origin = self.origin(range);
+                let mut inputs = Vec::new();
+                let mut outputs = Vec::new();
+                for arg in call.args() {
+                    let Some(member) = arg.formal().and_then(|f| ty.member(&f.text())) else {
+                        continue;
+                    };
+                    if arg.is_output() {
+                        let Some(path) =
+                            arg.target().and_then(|t| self.path(&t, Some(member.ty())))
+                        else {
+                            continue;
+                        };
+                        if let PathKind::Place(place) = path.kind {
+                            outputs.push((member, place, path.ty));
+                        }
+                    } else if let Some(value) =
+                        arg.value().and_then(|v| self.expr(&v, Some(member.ty())))
+                    {
+                        inputs.push((member, value));
+                    }
+                }
+                Some(Statement::Call(FbCall {
+                    fb,
+                    inputs,
+                    outputs,
+                    origin,
+                }))
+            }
+        }
     }
 
     /// The conditions of a node's body, in order.
@@ -282,6 +461,9 @@ fn qualifier(text: &str) -> Option<Qualifier> {
         "SD" => Qualifier::Sd,
         "DS" => Qualifier::Ds,
         "SL" => Qualifier::Sl,
+        "P1" => Qualifier::P1,
+        "P0" => Qualifier::P0,
+        "DL" => Qualifier::Dl,
         _ => return None,
     })
 }
@@ -312,11 +494,36 @@ impl Lowerer<'_> {
                     .or_insert(decl);
             }
         }
+        let iec = chart.profile() == ast::Profile::Iec;
         let mut var_cells = Vec::with_capacity(vars.len());
         let mut cell_names = Vec::new();
+        let mut fbs: HashMap<String, (FbId, FbInstance)> = HashMap::new();
+        let mut fb_list: Vec<FbInstance> = Vec::new();
         for var in &vars {
             let ty = var.ty.and_then(values::ty).unwrap_or(Ty::Bool);
             let key = crate::index::key(&var.name);
+            // a standard function block instance (IEC): cells for its members and state
+            let fb_ty = decl_nodes
+                .get(&key)
+                .and_then(|d| d.ty())
+                .and_then(|t| t.name())
+                .and_then(|n| FbType::from_name(n.text()));
+            if let (true, false, Some(fb_ty)) = (iec, var.duplicate, fb_ty) {
+                let members = fb_ty.members().map(|m| self.cell(m.ty(), None)).collect();
+                let state = fb_ty
+                    .state_tys()
+                    .iter()
+                    .map(|t| self.cell(*t, None))
+                    .collect();
+                let fb = FbInstance {
+                    name: var.name.clone(),
+                    ty: fb_ty,
+                    members,
+                    state,
+                };
+                fbs.insert(key.clone(), (fb_list.len() as FbId, fb.clone()));
+                fb_list.push(fb);
+            }
             let init = if var.duplicate {
                 None
             } else {
@@ -333,6 +540,32 @@ impl Lowerer<'_> {
                 cell_names.push((var.name.clone(), cell));
             }
         }
+        // Steps by name for `Step.X`/`Step.T` (IEC): numbered as `sequencer` numbers them.
+        let mut steps = HashMap::new();
+        if iec {
+            let mut seen = std::collections::HashSet::new();
+            let mut seq_index = 0u32;
+            for sequencer in chart.sequencers() {
+                let Some(seq_name) = sequencer.name().map(|n| n.text()) else {
+                    continue;
+                };
+                if !seen.insert(crate::index::key(&seq_name)) {
+                    continue;
+                }
+                let tree = Tree::build(&sequencer);
+                let mut names = std::collections::HashSet::new();
+                let mut index: StepIdx = 0;
+                for elem in &tree.elems {
+                    let key = crate::index::key(elem.label());
+                    if elem.kind == Kind::Step && names.insert(key.clone()) {
+                        steps.entry(key).or_insert((seq_index, index));
+                        index += 1;
+                    }
+                }
+                seq_index += 1;
+            }
+        }
+        let chart_index = self.program.charts.len() as u32;
         let scope = Scope::new(info, vars);
         let mut cl = ChartLowering {
             lw: self,
@@ -341,6 +574,11 @@ impl Lowerer<'_> {
             file,
             item,
             var_cells,
+            iec,
+            chart_index,
+            fbs,
+            steps,
+            action_names: HashMap::new(),
         };
 
         let mut out = Chart {
@@ -353,7 +591,38 @@ impl Lowerer<'_> {
             autostart: false,
             sequencers: Vec::new(),
             actions: Vec::new(),
+            profile: if iec { Profile::Iec } else { Profile::Pcs7 },
+            fbs: fb_list,
         };
+        // `action` members (IEC), text order, before the variable actions of the steps: a
+        // hidden BOOL cell holds the action's activity; the bodies follow once all are named.
+        let members: Vec<ast::ChartAction> = if iec {
+            chart.actions().collect()
+        } else {
+            Vec::new()
+        };
+        let mut bodies = Vec::new();
+        for action in &members {
+            let Some(name) = action.name().map(|n| n.text()) else {
+                continue;
+            };
+            let key = crate::index::key(&name);
+            if cl.action_names.contains_key(&key) {
+                continue;
+            }
+            let cell = cl.lw.cell(Ty::Bool, None);
+            cl.action_names.insert(key, out.actions.len() as u32);
+            bodies.push((out.actions.len(), action.clone()));
+            out.actions.push(Action {
+                name,
+                place: Place::Cell(cell),
+                body: Some(Vec::new()),
+            });
+        }
+        for (index, action) in bodies {
+            let body = cl.statements(action.syntax());
+            out.actions[index].body = Some(body);
+        }
         for prop in chart.props() {
             let (Some(keyword), Some(value)) = (prop.keyword(), prop.value()) else {
                 continue;
@@ -469,11 +738,16 @@ impl ChartLowering<'_, '_> {
                             successors(&tree, &nav, id, &step_of),
                         ),
                         kind => {
-                            let from = nav
-                                .previous_unit(&tree, id)
-                                .and_then(|s| step_of.get(&s).copied())
-                                .into_iter()
-                                .collect();
+                            // IEC: a jump that opens an `alt` branch leaves the step before
+                            // the `alt`; a jump after a parallel leaves its last steps
+                            let from = if self.iec {
+                                predecessors(&tree, &nav, id, &step_of)
+                            } else {
+                                nav.previous_unit(&tree, id)
+                                    .and_then(|s| step_of.get(&s).copied())
+                                    .into_iter()
+                                    .collect()
+                            };
                             let to = elem
                                 .target
                                 .as_ref()
@@ -512,12 +786,27 @@ impl ChartLowering<'_, '_> {
                 continue;
             }
             let mut candidates = Vec::new();
-            if let Some(next) = nav.next_unit(&tree, id) {
+            // IEC: a step that ends an `alt` branch with a jump does not converge
+            let ends_branch_with_jump = self.iec
+                && nav.next_in_list(&tree, id).is_none()
+                && nav.attachments(&tree, id).next().is_some();
+            let next = if ends_branch_with_jump {
+                None
+            } else {
+                nav.next_unit(&tree, id)
+            };
+            if let Some(next) = next {
                 match tree.elems[next].kind {
                     Kind::Trans => candidates.extend(trans_of.get(&next).copied()),
                     Kind::Alt => {
                         for &branch in &tree.elems[next].branches {
-                            if let Some(first) = Nav::first_unit(&tree, branch)
+                            // IEC: a branch may open with a jump (a transition with a target)
+                            let opening = tree.lists[branch].elems.first().copied();
+                            if let (true, Some(first)) = (self.iec, opening)
+                                && tree.elems[first].kind.is_attachment()
+                            {
+                                candidates.extend(trans_of.get(&first).copied());
+                            } else if let Some(first) = Nav::first_unit(&tree, branch)
                                 && tree.elems[first].kind == Kind::Trans
                             {
                                 candidates.extend(trans_of.get(&first).copied());
@@ -595,18 +884,38 @@ impl ChartLowering<'_, '_> {
                         continue;
                     };
                     let time = operands.next().and_then(|t| self.time(&t));
+                    // an `action` member named by the qualifier (IEC)
+                    let named = match path.segments().collect::<Vec<_>>().as_slice() {
+                        [one] if path.address().is_none() && path.symbol().is_none() => self
+                            .action_names
+                            .get(&crate::index::key(&one.text()))
+                            .copied(),
+                        _ => None,
+                    };
+                    if let Some(index) = named {
+                        out.qualifiers.push(Association {
+                            qualifier: q,
+                            action: index,
+                            time,
+                        });
+                        continue;
+                    }
                     let Some(lowered) = self.path(&path, Some(Ty::Bool)) else {
                         continue;
                     };
                     let PathKind::Place(place) = lowered.kind else {
                         continue;
                     };
-                    let index = match actions.iter().position(|a| a.place == place) {
+                    let index = match actions
+                        .iter()
+                        .position(|a| a.body.is_none() && a.place == place)
+                    {
                         Some(i) => i,
                         None => {
                             actions.push(Action {
                                 name: lowered.text,
                                 place,
+                                body: None,
                             });
                             actions.len() - 1
                         }
@@ -734,6 +1043,15 @@ impl Nav {
             }
         }
         None
+    }
+
+    /// The next unit after `elem` in its own list.
+    fn next_in_list(&self, tree: &Tree, elem: usize) -> Option<usize> {
+        let list = &tree.lists[tree.elems[elem].list];
+        list.elems[self.pos[elem] + 1..]
+            .iter()
+            .copied()
+            .find(|&e| !tree.elems[e].kind.is_attachment())
     }
 
     /// The unit before `elem` in its list.

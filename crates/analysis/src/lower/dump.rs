@@ -4,8 +4,8 @@ use std::fmt::Write;
 
 use higraph_runtime::Program;
 use higraph_runtime::program::{
-    Block, Expr, Instr, MemArea, Operand, Path, PathKind, Place, Stmt, TestStmtKind, TimeValue,
-    Trans, Width,
+    Block, Expr, Instr, MemArea, Operand, Path, PathKind, Place, Profile, Statement, TestStmtKind,
+    TimeValue, Trans, Width,
 };
 
 fn place(p: &Place) -> String {
@@ -104,18 +104,80 @@ pub(crate) fn expr(e: &Expr) -> String {
         Expr::Or(a, b) => format!("({} or {})", expr(a), expr(b)),
         Expr::Xor(a, b) => format!("({} xor {})", expr(a), expr(b)),
         Expr::Cmp(op, a, b) => format!("({} {op:?} {})", expr(a), expr(b)),
+        Expr::Neg(x) => format!("-{}", expr(x)),
+        Expr::Arith(op, a, b) => format!("({} {op:?} {})", expr(a), expr(b)),
     }
 }
 
-fn stmts(out: &mut String, indent: &str, label: &str, s: &[Stmt]) {
+/// Statements, nested ones indented by two more (depth bounded by the parser's nesting limit).
+fn stmts(out: &mut String, indent: &str, label: &str, s: &[Statement]) {
     for st in s {
-        let _ = writeln!(
-            out,
-            "{indent}{label}: {} ({}) := {}",
-            place(&st.target),
-            st.ty,
-            expr(&st.value)
-        );
+        match st {
+            Statement::Assign(st) => {
+                let _ = writeln!(
+                    out,
+                    "{indent}{label}: {} ({}) := {}",
+                    place(&st.target),
+                    st.ty,
+                    expr(&st.value)
+                );
+            }
+            Statement::If { arms, else_, .. } => {
+                let inner = format!("{indent}  ");
+                for (i, (cond, body)) in arms.iter().enumerate() {
+                    let kw = if i == 0 { "IF" } else { "ELSIF" };
+                    let _ = writeln!(out, "{indent}{label}: {kw} {}", expr(cond));
+                    stmts(out, &inner, label, body);
+                }
+                if !else_.is_empty() {
+                    let _ = writeln!(out, "{indent}{label}: ELSE");
+                    stmts(out, &inner, label, else_);
+                }
+                let _ = writeln!(out, "{indent}{label}: END_IF");
+            }
+            Statement::Case {
+                selector,
+                arms,
+                else_,
+                ..
+            } => {
+                let inner = format!("{indent}  ");
+                let _ = writeln!(out, "{indent}{label}: CASE {}", expr(selector));
+                for (labels, body) in arms {
+                    let _ = writeln!(out, "{indent}{label}: {labels:?}");
+                    stmts(out, &inner, label, body);
+                }
+                if !else_.is_empty() {
+                    let _ = writeln!(out, "{indent}{label}: ELSE");
+                    stmts(out, &inner, label, else_);
+                }
+                let _ = writeln!(out, "{indent}{label}: END_CASE");
+            }
+            Statement::Call(c) => {
+                let ins: Vec<String> = c
+                    .inputs
+                    .iter()
+                    .map(|(m, e)| format!("{} := {}", m.name(), expr(e)))
+                    .collect();
+                let outs: Vec<String> = c
+                    .outputs
+                    .iter()
+                    .map(|(m, p, ty)| format!("{} => {} ({ty})", m.name(), place(p)))
+                    .collect();
+                let _ = writeln!(
+                    out,
+                    "{indent}{label}: fb{}({}{}{})",
+                    c.fb,
+                    ins.join(", "),
+                    if ins.is_empty() || outs.is_empty() {
+                        ""
+                    } else {
+                        ", "
+                    },
+                    outs.join(", ")
+                );
+            }
+        }
     }
 }
 
@@ -254,8 +316,24 @@ pub(crate) fn program(p: &Program) -> String {
         for (name, cell) in &c.vars {
             let _ = writeln!(out, "  var {name} cell{cell}");
         }
+        if c.profile == Profile::Iec {
+            let _ = writeln!(out, "  profile iec");
+        }
+        for (i, fb) in c.fbs.iter().enumerate() {
+            let _ = writeln!(
+                out,
+                "  fb{i} {} : {} members {:?} state {:?}",
+                fb.name,
+                fb.ty.name(),
+                fb.members,
+                fb.state
+            );
+        }
         for (i, a) in c.actions.iter().enumerate() {
             let _ = writeln!(out, "  action{i} {} = {}", a.name, place(&a.place));
+            if let Some(body) = &a.body {
+                stmts(&mut out, "    ", "body", body);
+            }
         }
         for s in &c.sequencers {
             let start: Vec<String> = s.start.iter().map(expr).collect();

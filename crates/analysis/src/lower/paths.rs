@@ -11,7 +11,7 @@
 
 use std::collections::HashSet;
 
-use higraph_runtime::program::{StepMember, VarIdx};
+use higraph_runtime::program::{FbMember, FbType, StepMember, VarIdx};
 use higraph_runtime::value::Ty;
 use higraph_syntax::{TextRange, ast, ast::AstNode};
 
@@ -57,6 +57,8 @@ pub(crate) struct ScopeChart {
     pub item: u32,
     /// Variables (the first of each name): name, name range, type.
     pub vars: Vec<(String, TextRange, Option<Type>)>,
+    /// Per variable (same indices): its standard function block type in an IEC chart.
+    pub fb_types: Vec<Option<FbType>>,
     pub sequencers: Vec<ScopeSequencer>,
 }
 
@@ -92,6 +94,12 @@ pub(crate) enum PathTarget {
     ChartVar {
         chart: usize,
         var: usize,
+    },
+    /// `Chart.Fb.Member`: a member of a function block instance of an IEC chart.
+    ChartFb {
+        chart: usize,
+        var: usize,
+        member: FbMember,
     },
     Step {
         chart: usize,
@@ -299,6 +307,8 @@ pub(crate) fn group_scope(
 /// The variables, sequencers and steps of a chart as the lowering numbers them.
 pub(crate) fn chart_scope(chart: &ast::Chart, file: File, item: u32) -> ScopeChart {
     let mut vars = Vec::new();
+    let mut fb_types = Vec::new();
+    let iec = chart.profile() == ast::Profile::Iec;
     let mut seen = HashSet::new();
     for (_, decl) in crate::rules::decls::declarations(chart.var_sections()) {
         let Some(name) = decl.name() else { continue };
@@ -306,6 +316,12 @@ pub(crate) fn chart_scope(chart: &ast::Chart, file: File, item: u32) -> ScopeCha
         if !seen.insert(key(&name.text())) {
             continue;
         }
+        fb_types.push(
+            decl.ty()
+                .and_then(|t| t.name())
+                .and_then(|n| FbType::from_name(n.text()))
+                .filter(|_| iec),
+        );
         vars.push((
             name.text(),
             token.text_range(),
@@ -341,6 +357,7 @@ pub(crate) fn chart_scope(chart: &ast::Chart, file: File, item: u32) -> ScopeCha
         file,
         item,
         vars,
+        fb_types,
         sequencers,
     }
 }
@@ -835,6 +852,49 @@ impl Resolver<'_> {
                 target: PathTarget::ChartVar { chart: c, var: v },
                 ty: Some(chart.vars[v].2.and_then(values::ty).unwrap_or(Ty::Bool)),
                 settable: Ok(()),
+                segments: segs,
+                not_an_output: None,
+            });
+        }
+        // `Fb.Member` of an IEC chart: inputs can be set, outputs only read.
+        if rest.len() == 2
+            && let Some(v) = chart
+                .vars
+                .iter()
+                .position(|v| v.0.eq_ignore_ascii_case(name))
+            && let Some(Some(fb_ty)) = chart.fb_types.get(v)
+        {
+            let (member_name, member_range) = &rest[1];
+            let Some(member) = fb_ty.member(member_name) else {
+                return Err(PathError::Unresolved {
+                    range: *member_range,
+                    message: format!(
+                        "{} '{}' has no member '{member_name}'",
+                        fb_ty.name(),
+                        chart.vars[v].0
+                    ),
+                    written: member_name.clone(),
+                    candidates: fb_ty.members().map(|m| m.name().to_owned()).collect(),
+                });
+            };
+            let (file, range) = self.loc(chart.file, chart.item, chart.vars[v].1);
+            segs.push((*name_range, SegmentDef::ChartVariable { file, range }));
+            segs.push((*member_range, SegmentDef::Member));
+            let settable = if fb_ty.inputs().contains(&member) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{text} is an output of the function block, computed when it is called"
+                ))
+            };
+            return Ok(Resolution {
+                target: PathTarget::ChartFb {
+                    chart: c,
+                    var: v,
+                    member,
+                },
+                ty: Some(member.ty()),
+                settable,
                 segments: segs,
                 not_an_output: None,
             });

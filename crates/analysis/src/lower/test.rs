@@ -5,8 +5,8 @@
 use std::collections::HashSet;
 
 use higraph_runtime::program::{
-    Command, Expr, OpState, Origin, Path, PathKind, Place, RunEntry, StepMember, Test, TestStmt,
-    TestStmtKind,
+    ArithOp, Command, Expr, OpState, Origin, Path, PathKind, Place, RunEntry, StepMember, Test,
+    TestStmt, TestStmtKind,
 };
 use higraph_runtime::value::{Ty, Value};
 use higraph_syntax::literal::{self, LiteralClass, LiteralValue};
@@ -266,6 +266,16 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
                 let cell = placer.lw.program.charts.get(c as usize)?.vars.get(*var)?.1;
                 PathKind::Place(Place::Cell(cell))
             }
+            PathTarget::ChartFb { chart, var, member } => {
+                let c = *placer.charts.get(*chart)?;
+                let lowered = placer.lw.program.charts.get(c as usize)?;
+                let name = &lowered.vars.get(*var)?.0;
+                let fb = lowered
+                    .fbs
+                    .iter()
+                    .find(|f| f.name.eq_ignore_ascii_case(name))?;
+                PathKind::Place(Place::Cell(fb.cell(*member)?))
+            }
             PathTarget::Step {
                 chart,
                 sequencer,
@@ -326,6 +336,20 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
             },
             ast::Expr::Path(_) => ETy::Unknown,
             ast::Expr::Paren(p) => p.expr().map_or(ETy::Unknown, |e| self.static_ty(&e)),
+            // Unary minus and arithmetic (IEC, `docs/iec.md` §4): the operands' type; depth
+            // bounded by the parser's nesting limit.
+            ast::Expr::Prefix(p) if p.op() == Some(ast::PrefixOp::Neg) => {
+                p.operand().map_or(ETy::Unknown, |e| self.static_ty(&e))
+            }
+            ast::Expr::Bin(b) if b.op().is_some_and(ast::BinOp::is_arithmetic) => {
+                let l = b.lhs().map_or(ETy::Unknown, |e| self.static_ty(&e));
+                let r = b.rhs().map_or(ETy::Unknown, |e| self.static_ty(&e));
+                match (l, r) {
+                    (ETy::Known(t), _) | (_, ETy::Known(t)) => ETy::Known(t),
+                    (ETy::IntLit, ETy::IntLit) => ETy::IntLit,
+                    _ => ETy::Unknown,
+                }
+            }
             ast::Expr::Prefix(_) | ast::Expr::Bin(_) => ETy::Known(Ty::Bool),
         }
     }
@@ -361,6 +385,48 @@ impl<'r, 'p, 'a> TestWalker<'r, 'p, 'a> {
                 Some(inner) => self.expr(&inner, hint),
                 None => (None, ETy::Unknown),
             },
+            ast::Expr::Prefix(p) if p.op() == Some(ast::PrefixOp::Neg) => {
+                let Some(operand) = p.operand() else {
+                    return (None, ETy::Unknown);
+                };
+                let (x, ty) = self.expr(&operand, hint);
+                (x.map(|x| Expr::Neg(Box::new(x))), ty)
+            }
+            ast::Expr::Bin(b) if b.op().is_some_and(ast::BinOp::is_arithmetic) => {
+                let (Some(op), Some(lhs), Some(rhs)) = (b.op(), b.lhs(), b.rhs()) else {
+                    return (None, ETy::Unknown);
+                };
+                let op = match op {
+                    ast::BinOp::Add => ArithOp::Add,
+                    ast::BinOp::Sub => ArithOp::Sub,
+                    ast::BinOp::Mul => ArithOp::Mul,
+                    ast::BinOp::Div => ArithOp::Div,
+                    _ => ArithOp::Mod,
+                };
+                let lt = self.static_ty(&lhs);
+                let rt = self.static_ty(&rhs);
+                // as in charts: an integer constant adopts the other operand's type; the
+                // factor of `TIME * n`, `TIME / n` is a DINT constant
+                let scaled =
+                    lt == ETy::Known(Ty::Time) && matches!(op, ArithOp::Mul | ArithOp::Div);
+                let ty = known(lt).or(known(rt)).or(hint);
+                let (l, _) = self.expr(&lhs, ty);
+                let rhint = if scaled {
+                    known(rt).or(Some(Ty::Dint))
+                } else {
+                    known(rt).or(ty)
+                };
+                let (r, _) = self.expr(&rhs, rhint);
+                let ety = match (ty, lt, rt) {
+                    (Some(t), _, _) => ETy::Known(t),
+                    (None, ETy::IntLit, ETy::IntLit) => ETy::IntLit,
+                    _ => ETy::Unknown,
+                };
+                let x = l
+                    .zip(r)
+                    .map(|(l, r)| Expr::Arith(op, Box::new(l), Box::new(r)));
+                (x, ety)
+            }
             ast::Expr::Prefix(p) => {
                 let Some(operand) = p.operand() else {
                     return (None, ETy::Known(Ty::Bool));

@@ -7,7 +7,7 @@ use higraph_runtime::eval;
 use higraph_runtime::machine::Machine;
 use higraph_runtime::program::{
     Action, Association, Chart, ChartTrans, ChartTransKind, CmpOp, Command, Expr, MemArea, OpState,
-    Origin, Path, PathKind, Place, Program, Qualifier, Sequencer, SfcFlag, Step, StepIdx,
+    Origin, Path, PathKind, Place, Profile, Program, Qualifier, Sequencer, SfcFlag, Step, StepIdx,
     StepMember, Stmt, Switching, Width,
 };
 use higraph_runtime::trace::ChartRecord;
@@ -135,15 +135,15 @@ impl StepB {
         self
     }
     pub fn init(mut self, s: Vec<Stmt>) -> StepB {
-        self.0.init = s;
+        self.0.init = s.into_iter().map(Into::into).collect();
         self
     }
     pub fn run(mut self, s: Vec<Stmt>) -> StepB {
-        self.0.run = s;
+        self.0.run = s.into_iter().map(Into::into).collect();
         self
     }
     pub fn term(mut self, s: Vec<Stmt>) -> StepB {
-        self.0.term = s;
+        self.0.term = s.into_iter().map(Into::into).collect();
         self
     }
     pub fn min(mut self, ms: i32) -> StepB {
@@ -228,8 +228,11 @@ pub fn chart(name: &str, actions: Vec<(&str, Place)>, sequencers: Vec<Sequencer>
             .map(|(n, p)| Action {
                 name: n.to_owned(),
                 place: p,
+                body: None,
             })
             .collect(),
+        profile: Profile::Pcs7,
+        fbs: vec![],
     }
 }
 
