@@ -643,7 +643,9 @@ impl Gen {
                     .filter(|(_, t)| matches!(*t, "TON" | "TOF" | "TP"))
                     .map(|(n, _)| *n)
                     .collect();
-                let lhs = if timers.is_empty() {
+                let lhs = if !self.steps.is_empty() && self.rng.percent(30) {
+                    format!("{}.T", self.rng.pick(&self.steps))
+                } else if timers.is_empty() {
                     "Elapsed".to_owned()
                 } else {
                     format!("{}.ET", self.rng.choose(&timers))
@@ -792,6 +794,7 @@ mod tests {
             "-(",
             "(",
             ".X",
+            ".T >",
             "Timer1(",
             "=> ",
             "action Action_",
