@@ -31,6 +31,20 @@ fn documents() -> Vec<(&'static str, String)> {
         ),
         ("not", chart("", &format!("{}x", "not ".repeat(40_000)))),
         ("or", chart("", &format!("x{}", " or x".repeat(40_000)))),
+        // IEC charts (docs/iec.md): arithmetic and nested statements.
+        ("minus", chart("", &format!("{}x", "- ".repeat(40_000)))),
+        (
+            "plus",
+            chart("", &format!("x{}", " + x * x".repeat(20_000))),
+        ),
+        (
+            "if",
+            format!(
+                "chart C <\n  profile iec;\n  action A < {}x := 1;{} >\n  sequencer S < step A < P1 A; > >\n>\n",
+                "IF a THEN CASE n OF 1: ".repeat(50_000),
+                " END_CASE; END_IF;".repeat(50_000)
+            ),
+        ),
         (
             "alt",
             chart(

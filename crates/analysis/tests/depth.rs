@@ -31,6 +31,29 @@ fn chain(n: usize) -> String {
     chart("", &format!("x{}", " or x".repeat(n)))
 }
 
+/// An IEC chart (docs/iec.md) with `statements` in an action body and in a step's `run`.
+fn iec(statements: &str) -> String {
+    format!(
+        "chart C <\n  profile iec;\n  action A < {statements} >\n  sequencer S <\n    step A < run < x := 1; > P1 A; >\n    trans T < x > 0; >\n    step B < run < {statements} > >\n  >\n>\n"
+    )
+}
+
+/// `n` nested `IF`s, every other one in the `ELSE` of the one around it, and `CASE` arms.
+fn ifs(n: usize) -> String {
+    let open: String = (0..n)
+        .map(|i| match i % 3 {
+            0 => "IF a THEN ",
+            1 => "IF b THEN y := 1; ELSE ",
+            _ => "CASE n OF 1..2: ",
+        })
+        .collect();
+    let close: String = (0..n)
+        .rev()
+        .map(|i| if i % 3 == 2 { " END_CASE;" } else { " END_IF;" })
+        .collect();
+    iec(&format!("{open}x := -x + 1 * 2;{close}"))
+}
+
 /// `n` nested `parallel` (or `alt`) constructs of one branch each.
 fn branches(n: usize, keyword: &str) -> String {
     let inner = if keyword == "alt" {
@@ -144,10 +167,25 @@ fn nesting_past_the_limit_is_reported_once_and_analysed() {
             ("or chain", chain(40_000)),
             ("parallel", branches(1_000, "parallel")),
             ("alt", branches(1_000, "alt")),
+            (
+                "unary minus",
+                chart("", &format!("{}x", "-".repeat(40_000))),
+            ),
+            (
+                "plus chain",
+                chart("", &format!("x{}", " + x".repeat(40_000))),
+            ),
         ] {
             let diagnostics = exercise(&text);
             assert_eq!(count(&diagnostics, "HG0012"), 1, "{what}: {diagnostics:#?}");
         }
+        // Twice: in the action and in the step.
+        let diagnostics = exercise(&ifs(20_000));
+        assert_eq!(
+            count(&diagnostics, "HG0012"),
+            2,
+            "IF and CASE: {diagnostics:#?}"
+        );
     });
 }
 
@@ -171,6 +209,8 @@ fn nesting_at_the_limit_is_analysed_without_a_diagnostic() {
             ("parallel", branches(limit, "parallel")),
             ("alt", branches(limit, "alt")),
             ("mixed", mixed),
+            ("IF and CASE", ifs(limit - 3)),
+            ("unary minus", chart("", &format!("{}x", "-".repeat(limit)))),
         ] {
             let diagnostics = exercise(&text);
             assert_eq!(count(&diagnostics, "HG0012"), 0, "{what}: {diagnostics:#?}");

@@ -53,10 +53,10 @@ fn every_keyword_may_name_graphs_variables_groups_instances_and_symbols() {
     for &(word, kind) in SyntaxKind::KEYWORDS.iter() {
         use SyntaxKind::*;
         // What such names get anyway (language.md §7): the operators, `ANY` (a type) and
-        // `SET` (an STL operation) are reserved words (HG1103); `FC` and `DB` are address
-        // areas, so STL writes `#fc` (HG4102).
+        // `SET` and `MOD` (STL operations) are reserved words (HG1103); `FC` and `DB` are
+        // address areas, so STL writes `#fc` (HG4102).
         let expected: &[&str] = match kind {
-            AND_KW | OR_KW | XOR_KW | NOT_KW | ANY_KW | SET_KW => &["HG1103"],
+            AND_KW | OR_KW | XOR_KW | NOT_KW | ANY_KW | SET_KW | MOD_KW => &["HG1103"],
             FC_KW | DB_KW => &["HG4102"],
             _ => &[],
         };

@@ -429,10 +429,9 @@ fn statement(p: &mut Parser<'_>) {
 /// In a case arm, also up to `NAME :` (a label that is not an integer constant: no statement
 /// begins so).
 fn statement_list(p: &mut Parser<'_>, in_case: bool) {
-    while !at_stmt_list_end(p)
-        && !at_body_end(p)
-        && !(in_case && p.at(IDENT) && p.nth(1) == COLON && !p.nth_is_assign(1))
-    {
+    let at_bad_label =
+        |p: &Parser<'_>| in_case && p.at(IDENT) && p.nth(1) == COLON && !p.nth_is_assign(1);
+    while !(at_stmt_list_end(p) || at_body_end(p) || at_bad_label(p)) {
         statement(p);
     }
 }
@@ -444,7 +443,7 @@ fn too_deep_statement(p: &mut Parser<'_>) {
     p.error_too_deep();
     p.start(ERROR);
     let mut open = 0usize;
-    while !p.at_eof() && !p.r_angle_closes() && !(p.nth_on_new_line(0) && p.at_item_start()) {
+    while !(p.at_eof() || p.r_angle_closes() || (p.nth_on_new_line(0) && p.at_item_start())) {
         if at_stmt_kw(p, IF_KW) || at_stmt_kw(p, CASE_KW) {
             open += 1;
         } else if at_stmt_kw(p, END_IF_KW) || at_stmt_kw(p, END_CASE_KW) {
