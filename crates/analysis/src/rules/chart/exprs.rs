@@ -529,8 +529,15 @@ impl<'c, 'a> Walker<'c, 'a> {
         written: &str,
     ) {
         let range = operand.syntax().text_range();
+        let instance = match target {
+            Target::Var(i) if self.scope.iec => self.scope.vars.get(*i).and_then(|v| v.fb),
+            _ => None,
+        };
         let problem = match operand {
             ast::Operand::Literal(_) => Some("a constant".to_owned()),
+            _ if instance.is_some() => {
+                instance.map(|fb| format!("a function block instance ({})", fb.name()))
+            }
             _ => match target.ty(self.scope) {
                 Some(Type::Bool) | None => None,
                 Some(ty) => Some(ty.to_string()),

@@ -178,10 +178,8 @@ fn member_path(
     let name = first_token.text();
     let Some(i) = scope.var(name) else {
         let flag = second_token.text();
-        if report {
-            if let Some(step) = scope.steps.iter().find(|s| s.eq_ignore_ascii_case(name)) {
-                resolve::case_hint(ctx, first_token.text_range(), name, &step.clone());
-            }
+        if report && let Some(step) = scope.steps.iter().find(|s| s.eq_ignore_ascii_case(name)) {
+            resolve::case_hint(ctx, first_token.text_range(), name, &step.clone());
         }
         return Target::Iec(IecTarget::StepFlag {
             step: name.to_owned(),
