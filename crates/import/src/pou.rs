@@ -243,20 +243,32 @@ pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, 
         if decls.is_empty() {
             continue;
         }
-        let _ = writeln!(text, "  {keyword} <");
-        for v in decls {
-            let _ = write!(text, "    {} : {}", v.name, v.ty);
-            if let Some(init) = &v.init {
-                let _ = write!(text, " := {init}");
-            }
-            match v.doc.as_deref().and_then(string_comment) {
-                Some(c) => {
-                    let _ = writeln!(text, " \"{c}\";");
+        let decls: Vec<String> = decls
+            .iter()
+            .map(|v| {
+                let mut d = format!("{} : {}", v.name, v.ty);
+                if let Some(init) = &v.init {
+                    let _ = write!(d, " := {init}");
                 }
-                None => text.push_str(";\n"),
+                if let Some(c) = v.doc.as_deref().and_then(string_comment) {
+                    let _ = write!(d, " \"{c}\"");
+                }
+                d.push(';');
+                d
+            })
+            .collect();
+        // As `fmt` lays it out: one line when it fits in 100 columns.
+        let one_line = format!("  {keyword} < {} >", decls.join(" "));
+        if one_line.chars().count() <= 100 {
+            text.push_str(&one_line);
+            text.push('\n');
+        } else {
+            let _ = writeln!(text, "  {keyword} <");
+            for d in decls {
+                let _ = writeln!(text, "    {d}");
             }
+            text.push_str("  >\n");
         }
-        text.push_str("  >\n");
     }
     let _ = writeln!(text, "  sequencer {SEQUENCER} <");
     write_elements(&mut text, &body, 2);
@@ -268,8 +280,12 @@ pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, 
             &format!("action {}", a.name),
             a.doc.as_deref(),
         );
+        let only = a.body.trim();
         if a.body.is_empty() {
             text.push_str(" < >\n");
+        } else if a.body.lines().count() == 1 && !only.starts_with("//") {
+            // One statement stays on the header's line, as `fmt` lays it out.
+            let _ = writeln!(text, " < {only} >");
         } else {
             text.push_str(" <\n");
             text.push_str(&a.body);
@@ -310,6 +326,8 @@ fn negate(text: &str) -> String {
 
 /// The `attribute` of CODESYS's SFC vendor data that names a step's active action.
 const CODESYS_STEP_ACTION: &str = "700a583f-b4d4-43e4-8c14-629c7cd3bec8";
+/// The `attribute` of CODESYS's SFC vendor data that holds an element's comment.
+const CODESYS_COMMENT: &str = "7d894980-aeea-405c-a0f6-e2b26429c58f";
 
 fn one_line(text: &str) -> String {
     text.chars()
@@ -382,6 +400,11 @@ fn write_elements(out: &mut String, els: &[El], indent: usize) {
                 write_header(out, indent, &format!("step {name}"), doc.as_deref());
                 if lines.is_empty() {
                     out.push_str(" < >\n");
+                } else if let [only] = lines.as_slice()
+                    && !only.starts_with("//")
+                {
+                    // One statement stays on the header's line, as `fmt` lays it out.
+                    let _ = writeln!(out, " < {only} >");
                 } else {
                     out.push_str(" <\n");
                     for l in lines {
@@ -1497,7 +1520,8 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 ),
             }
         }
-        // CODESYS keeps a step's own actions in its vendor data.
+        let mut doc = xml::documentation(node);
+        // CODESYS keeps a step's comment and its own actions in its vendor data.
         if let Some(add) = child(node, "addData") {
             for a in add
                 .descendants()
@@ -1507,7 +1531,11 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 let value = value.trim();
                 let upper = value.to_ascii_uppercase();
                 let named = self.named_actions.get(&upper).cloned();
-                if attr(a, "guid") == Some(CODESYS_STEP_ACTION) && !value.is_empty() {
+                if attr(a, "guid") == Some(CODESYS_COMMENT) {
+                    if doc.is_none() && !value.is_empty() {
+                        doc = Some(value.to_owned());
+                    }
+                } else if attr(a, "guid") == Some(CODESYS_STEP_ACTION) && !value.is_empty() {
                     match named {
                         Some(n) => lines.push(format!("N {n};")),
                         None => self.ctx.problem(
@@ -1525,11 +1553,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 }
             }
         }
-        El::Step {
-            name,
-            doc: xml::documentation(node),
-            lines,
-        }
+        El::Step { name, doc, lines }
     }
 
     fn transition(&mut self, i: usize) -> Trans {

@@ -1047,9 +1047,10 @@ fn write_stmt(out: &mut String, s: &Stmt, indent: usize) {
                 write_stmts(out, body, indent + 2);
             }
             if let Some(body) = else_ {
-                pad(out, indent);
+                // As `fmt` lays it out: the ELSE of a CASE stands with the arms.
+                pad(out, indent + 1);
                 out.push_str("ELSE\n");
-                write_stmts(out, body, indent + 1);
+                write_stmts(out, body, indent + 2);
             }
             pad(out, indent);
             out.push_str("END_CASE;\n");
@@ -1164,7 +1165,7 @@ mod tests {
         assert_eq!(
             out,
             "// count\nIF a THEN\n  b := 1;\nELSIF c THEN\n  b := 2;\nELSE\n  b := -3;\nEND_IF;\n\
-             CASE b OF\n  1, 2:\n    y := TRUE;\n  3..5:\n    y := FALSE;\nELSE\n  y := a;\nEND_CASE;\n\
+             CASE b OF\n  1, 2:\n    y := TRUE;\n  3..5:\n    y := FALSE;\n  ELSE\n    y := a;\nEND_CASE;\n\
              Timer(IN := TRUE, PT := T#5s, Q => z);\n"
         );
         let e = statements("a := 1;\nFOR i := 1 TO 3 DO END_FOR;", &n, 0).unwrap_err();

@@ -28,7 +28,8 @@ fn render(name: &str) -> String {
     text
 }
 
-/// Every generated chart parses without syntax diagnostics.
+/// Every generated chart parses without syntax diagnostics and is laid out as `fmt` lays it
+/// out.
 fn assert_parses(name: &str) {
     let out = higraph_import::import(&data(name)).expect("the file is a PLCopen project");
     for chart in &out.charts {
@@ -44,6 +45,13 @@ fn assert_parses(name: &str) {
             chart.name,
             errors.join("\n"),
             chart.text
+        );
+        // The import writes the canonical layout itself (the command line formats anyway).
+        let formatted = higraph_analysis::format::format(&chart.text).expect("formats");
+        assert_eq!(
+            chart.text, formatted,
+            "{name}: chart {} is not in the layout of `fmt`",
+            chart.name
         );
     }
 }
@@ -172,7 +180,8 @@ fn huge_and_deep_documents() {
 }
 
 /// Random damage to the test files (bytes deleted, duplicated, swapped; ST keywords
-/// sprinkled in): the import never panics, and every chart it writes parses cleanly.
+/// sprinkled in): the import never panics, and every chart it writes parses cleanly and is
+/// in the layout of `fmt`.
 #[test]
 fn damaged_files_never_panic() {
     let files = [
@@ -248,6 +257,11 @@ fn damaged_files_never_panic() {
                 assert!(!chart.text.contains("<?xml"));
                 let errors = higraph_syntax::parse(&chart.text).errors().len();
                 assert_eq!(errors, 0, "round {round}: syntax errors in\n{}", chart.text);
+                let formatted = higraph_analysis::format::format(&chart.text).expect("formats");
+                assert_eq!(
+                    chart.text, formatted,
+                    "round {round}: not in the layout of `fmt`"
+                );
             }
         }
     }

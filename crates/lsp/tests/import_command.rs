@@ -151,3 +151,27 @@ fn usage() {
     assert_eq!(run.status, 2, "{run:?}");
     assert!(run.stderr.contains("is not a folder"), "{}", run.stderr);
 }
+
+/// The three dialects import into charts that `check` finds nothing wrong with.
+#[test]
+fn imported_examples_check_clean() {
+    let files = [
+        "neutral_mixer.xml",
+        "codesys_ampel.xml",
+        "beremiz_station.xml",
+    ];
+    let tree = tree_with(&files);
+    let mut args = vec!["import", "-o", "charts"];
+    args.extend(files);
+    let run = run_in(tree.path(), &args);
+    assert_eq!(run.status, 0, "{run:?}");
+    assert_eq!(run.stderr, "imported 3 charts from 3 files\n");
+    let check = run_in(
+        &tree.path().join("charts"),
+        &["check", "--format", "short", "."],
+    );
+    assert_eq!(check.status, 0, "{check:?}");
+    assert_eq!(check.stdout, "", "{check:?}");
+    let fmt = run_in(&tree.path().join("charts"), &["fmt", "--check", "."]);
+    assert_eq!(fmt.status, 0, "{fmt:?}");
+}
