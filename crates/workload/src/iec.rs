@@ -14,9 +14,12 @@
 //! with step parts does not come back as the same text (`docs/build.md`, IEC charts). With
 //! `phases`, [`iec_chart_with`] writes step parts too (for tests of the checker and export).
 //!
-//! The text is meant to check clean: types match (`INT` with `INT`, `DINT` with `DINT`, no
-//! constant zero divisor), `CASE` labels never overlap, `term` writes only `Last_Step` (which
-//! nothing else writes, HG7311), every variable name is unique. Output depends on the seed only.
+//! The text checks clean (no error, no warning; the round trip asserts it): types match (`INT`
+//! with `INT`, `DINT` with `DINT`, no constant zero divisor), `CASE` labels never overlap,
+//! `term` writes only `Last_Step` (which nothing else writes, HG7311), no transition is the
+//! constant `TRUE` or `FALSE` (HG7012), every variable name is unique, and the alternative
+//! branches follow the shapes described at [`Gen::trans_kind`]. Output depends on the seed
+//! only.
 
 use std::fmt::Write as _;
 
@@ -560,8 +563,16 @@ impl Gen {
 
     // ------------------------------------------------------------------------ expressions
 
+    /// A transition condition; never the constant `TRUE`/`FALSE` alone, which would make
+    /// steps unreachable (HG7012).
     fn condition(&mut self) -> String {
-        self.bool_expr(3).0
+        for _ in 0..8 {
+            let c = self.bool_expr(3).0;
+            if c != "TRUE" && c != "FALSE" {
+                return c;
+            }
+        }
+        "Start".to_owned()
     }
 
     /// A BOOL operand for a function block input: an atom or a negated atom.
