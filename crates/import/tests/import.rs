@@ -310,3 +310,52 @@ fn converted_structured_text_always_parses() {
     }
     assert!(accepted.0 > 100 && accepted.1 > 100, "{accepted:?}");
 }
+
+/// CODESYS keeps the POUs of an application inside the resource's vendor data, and the
+/// standard's own example tells the branches of a divergence apart by `formalParameter`.
+#[test]
+fn pous_in_vendor_data_and_branches_by_formal_parameter() {
+    let doc = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0200">
+  <types><dataTypes /><pous /></types>
+  <instances><configurations><configuration name="Device"><resource name="Application">
+    <addData><data name="http://www.3s-software.com/plcopenxml/pou" handleUnknown="implementation">
+      <pou name="Branches" pouType="program">
+        <interface><localVars>
+          <variable name="A"><type><BOOL /></type></variable>
+          <variable name="B"><type><BOOL /></type></variable>
+        </localVars></interface>
+        <body><SFC>
+          <step localId="1" name="Start" initialStep="true"><connectionPointOut formalParameter="sfc" /></step>
+          <selectionDivergence localId="2">
+            <connectionPointIn><connection refLocalId="1" /></connectionPointIn>
+            <connectionPointOut formalParameter="left" />
+            <connectionPointOut formalParameter="right" />
+          </selectionDivergence>
+          <transition localId="3">
+            <connectionPointIn><connection refLocalId="2" formalParameter="right" /></connectionPointIn>
+            <condition><inline name="Right"><ST><xhtml xmlns="http://www.w3.org/1999/xhtml">B</xhtml></ST></inline></condition>
+          </transition>
+          <transition localId="4">
+            <connectionPointIn><connection refLocalId="2" formalParameter="left" /></connectionPointIn>
+            <condition><inline name="Left"><ST><xhtml xmlns="http://www.w3.org/1999/xhtml">A</xhtml></ST></inline></condition>
+          </transition>
+          <jumpStep localId="5" targetName="Start"><connectionPointIn><connection refLocalId="3" /></connectionPointIn></jumpStep>
+          <jumpStep localId="6" targetName="Start"><connectionPointIn><connection refLocalId="4" /></connectionPointIn></jumpStep>
+        </SFC></body>
+      </pou>
+    </data></addData>
+  </resource></configuration></configurations></instances>
+</project>"#;
+    let out = higraph_import::import(doc).unwrap();
+    assert!(out.problems.is_empty(), "{:?}", out.problems);
+    assert_eq!(out.charts.len(), 1);
+    let text = &out.charts[0].text;
+    // Only jumps after the step: written as jumps, the left pin first.
+    assert!(
+        text.contains(
+            "    step Start < >\n    jump Left->Start < A; >\n    jump Right->Start < B; >\n"
+        ),
+        "{text}"
+    );
+}
