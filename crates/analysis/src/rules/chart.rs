@@ -96,10 +96,13 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
 /// The chart's actions as declarations: HG7502 for each in a PCS 7 chart, HG7510 for a name
 /// an earlier action or a variable has.
 fn check_actions(ctx: &mut Ctx<'_>, scope: &Scope) {
+    // `scope.actions` holds the named actions in text order.
+    let mut decls = scope.actions.iter();
     for action in scope.chart.chart.actions() {
         let Some(token) = action.name().and_then(|n| n.token()) else {
             continue;
         };
+        let decl = decls.next();
         if !scope.iec {
             let diag = ctx.diag(
                 "HG7502",
@@ -110,14 +113,7 @@ fn check_actions(ctx: &mut Ctx<'_>, scope: &Scope) {
             ctx.push(diag);
             continue;
         }
-        let Some(decl) = scope
-            .actions
-            .iter()
-            .find(|a| a.name_range == token.text_range())
-        else {
-            continue;
-        };
-        if !decl.duplicate {
+        if !decl.is_some_and(|d| d.duplicate) {
             continue;
         }
         let name = token.text();
@@ -287,17 +283,18 @@ impl Scope {
         let used = vec![false; vars.len()];
         let iec = chart.is_iec();
         let mut actions: Vec<ActionDecl> = Vec::new();
+        // Variable and action names so far (keys): one lookup per action.
+        let mut taken: std::collections::HashSet<String> = vars
+            .iter()
+            .filter(|v| !v.duplicate)
+            .map(|v| crate::index::key(&v.name))
+            .collect();
         for action in chart.chart.actions() {
             let Some(token) = action.name().and_then(|n| n.token()) else {
                 continue;
             };
             let name = token.text().to_owned();
-            let duplicate = actions
-                .iter()
-                .any(|a| !a.duplicate && a.name.eq_ignore_ascii_case(&name))
-                || vars
-                    .iter()
-                    .any(|v| !v.duplicate && v.name.eq_ignore_ascii_case(&name));
+            let duplicate = !taken.insert(crate::index::key(&name));
             actions.push(ActionDecl {
                 name,
                 name_range: token.text_range(),

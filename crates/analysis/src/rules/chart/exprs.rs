@@ -230,13 +230,19 @@ impl<'c, 'a> Walker<'c, 'a> {
     /// action is HG7502) and for a later action of a name (HG7510, C3) only the uses count.
     pub fn actions(&mut self) {
         let actions: Vec<ast::ChartAction> = self.scope.chart.chart.actions().collect();
+        // `scope.actions` holds the named actions in text order.
+        let mut named = 0;
         for action in actions {
-            let duplicate = action.name().and_then(|n| n.token()).is_some_and(|t| {
-                self.scope
-                    .actions
-                    .iter()
-                    .any(|a| a.duplicate && a.name_range == t.text_range())
-            });
+            let duplicate = match action.name().and_then(|n| n.token()) {
+                Some(_) => {
+                    named += 1;
+                    self.scope
+                        .actions
+                        .get(named - 1)
+                        .is_some_and(|a| a.duplicate)
+                }
+                None => false,
+            };
             let report = self.scope.iec && !duplicate;
             let mut writes = Vec::new();
             for statement in action.statements() {
