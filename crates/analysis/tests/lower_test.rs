@@ -585,3 +585,112 @@ fn a_changed_expectation_of_the_ampel_example_fails() {
     let failures = run_iec(&host, "tests.higraph", "Ampel_Runde");
     assert!(!failures.is_empty());
 }
+
+/// Test paths into an IEC chart: function block members (inputs settable, outputs not), the
+/// instance alone is no path, chart variables are settable.
+#[test]
+fn test_paths_of_iec_function_blocks() {
+    let host = host(
+        r#"
+chart C <
+  profile iec;
+  stat < Zeit : TON; Zahl : INT; >
+  sequencer S <
+    post < Zeit(IN := A.X); >
+    step A < >
+    trans T < Zeit.Q; >
+    step B < >
+  >
+>
+test Gut <
+  run C;
+  set C.Zeit.PT := T#30MS;
+  set C.Zahl := 7;
+  step 3;
+  expect not C.Zeit.Q and C.Zeit.ET = T#20MS and C.A;
+  step;
+  expect C.Zeit.Q and C.Zahl = 7;
+  step;
+  expect C.B and not C.Zeit.Q;
+>
+test Schlecht <
+  run C;
+  set C.Zeit.Q := TRUE;
+  expect C.Zeit;
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "Gut"), Vec::<String>::new());
+    let diagnostics = host.analysis().diagnostics();
+    let codes: Vec<String> = diagnostics
+        .iter()
+        .flat_map(|(_, d)| d.iter())
+        .map(|d| format!("{} {}", d.code, d.message))
+        .filter(|c| c.starts_with("HG91"))
+        .collect();
+    assert!(
+        codes
+            .iter()
+            .any(|c| c.starts_with("HG9104 ") && c.contains("output of the function block")),
+        "{codes:#?}"
+    );
+    assert!(
+        codes
+            .iter()
+            .any(|c| c.starts_with("HG9101 ") && c.contains("'Zeit' is a function block instance")),
+        "{codes:#?}"
+    );
+    assert_eq!(codes.len(), 2, "{codes:#?}");
+}
+
+/// IEC structure: an `alt` branch that ends with a jump does not converge, a branch may be a
+/// single jump, the last step jumps back to the initial step.
+#[test]
+fn iec_branches_ending_in_or_being_a_jump() {
+    let host = host(
+        r#"
+chart C <
+  profile iec;
+  in < Links : BOOL; Rechts : BOOL; Weiter : BOOL; >
+  sequencer S <
+    step A < >
+    alt <
+      branch < trans TL < Links; > step B < > jump JB -> A < Rechts; > >
+      branch < jump JR -> D < Rechts; > >
+      branch < trans TW < Weiter; > step W < > trans T3 < Weiter; > >
+    >
+    step D < >
+    jump Zurueck -> A < Links and Rechts; >
+  >
+>
+test Wege <
+  run C;
+  step;
+  set C.Links := TRUE;
+  set C.Weiter := TRUE;
+  step;
+  expect C.B;
+  step;
+  expect C.B "B ends its branch with a jump: nothing else follows it";
+  set C.Links := FALSE;
+  set C.Weiter := FALSE;
+  set C.Rechts := TRUE;
+  step;
+  expect C.A and not C.B;
+  step;
+  expect C.D and not C.A "a branch that is a jump";
+  set C.Links := TRUE;
+  step;
+  expect C.A "the cyclic jump";
+  set C.Links := FALSE;
+  set C.Rechts := FALSE;
+  set C.Weiter := TRUE;
+  step;
+  expect C.W;
+  step;
+  expect C.D "the branch converges";
+>
+"#,
+    );
+    assert_eq!(run(&host, "main.higraph", "Wege"), Vec::<String>::new());
+}

@@ -1231,7 +1231,12 @@ pub fn cycle(
 fn record_state(ctx: &mut Ctx<'_, '_>, rt: &ChartRt) {
     if let Some(rec) = ctx.rec.as_deref_mut() {
         rec.state = rt.state.name().to_owned();
-        rec.running = rt.running.map(|r| rt.seqs[r.seq].name.clone());
+        // an IEC chart's sequencer always runs
+        rec.running = if ctx.ch.profile == Profile::Iec {
+            rt.seqs.first().map(|q| q.name.clone())
+        } else {
+            rt.running.map(|r| rt.seqs[r.seq].name.clone())
+        };
         rec.suspended = rt.suspended.map(|s| rt.seqs[s].name.clone());
         rec.active = rt
             .seqs

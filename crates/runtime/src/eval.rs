@@ -417,8 +417,8 @@ pub fn arith(op: ArithOp, a: Value, b: Value) -> Result<Value, Fault> {
                 };
                 return Err(Fault::new(format!("{what} by zero")));
             }
-            // i64 holds every 32-bit quotient except none: |x| ≤ 2^31, so no overflow here;
-            // the result is wrapped to the width below (-2^31 / -1 = -2^31 as on the PLC)
+            // operands are at most 32 bits wide, so the i64 quotient cannot overflow; it is
+            // wrapped to the width below (DINT -2^31 / -1 = -2^31, as on the PLC)
             if op == ArithOp::Div { x / y } else { x % y }
         }
     };

@@ -536,6 +536,7 @@ fn the_initial_step_is_active_from_the_first_cycle_and_the_chart_is_active() {
     s.steps(3);
     assert_eq!(s.t(0, 0), 30);
     assert_eq!(s.phases(), ["Seq.A run"]);
+    assert_eq!(s.rec.running.as_deref(), Some("Seq"));
 }
 
 #[test]

@@ -846,6 +846,21 @@ impl Resolver<'_> {
                 .iter()
                 .position(|v| v.0.eq_ignore_ascii_case(name))
         {
+            if let Some(Some(fb_ty)) = chart.fb_types.get(v) {
+                return Err(PathError::Unresolved {
+                    range: *name_range,
+                    message: format!(
+                        "{} '{}' is a function block instance: name one of its members",
+                        fb_ty.name(),
+                        chart.vars[v].0
+                    ),
+                    written: name.clone(),
+                    candidates: fb_ty
+                        .members()
+                        .map(|m| format!("{}.{}", chart.vars[v].0, m.name()))
+                        .collect(),
+                });
+            }
             let (file, range) = self.loc(chart.file, chart.item, chart.vars[v].1);
             segs.push((*name_range, SegmentDef::ChartVariable { file, range }));
             return Ok(Resolution {
