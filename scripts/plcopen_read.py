@@ -3,7 +3,8 @@ writes: the `plcopen` PyPI package (xsdata bindings generated from tc6_xml_v201.
 each file strictly (unknown elements or attributes and unconvertible values fail), then the
 SFC bodies are checked as an importer needs them: localIds unique, every connection names an
 element of the same POU, an initial step, jump targets that are steps, step names unique,
-every transition with an ST condition. Usage: python plcopen_read.py FILE... (exit 1 on the
+every transition with an ST condition, every named action with an ST body, every action
+association naming a variable or an action of its POU. Usage: python plcopen_read.py FILE... (exit 1 on the
 first problem of any file)."""
 
 import sys
@@ -78,6 +79,23 @@ def check(path, parser):
             text = inline.st.w3_org_1999_xhtml_element.text if inline and inline.st else None
             if not text:
                 problems.append(f"POU {pou.name}: transition {t.local_id} without ST condition")
+        actions = set()
+        for a in pou.actions.action if pou.actions else []:
+            actions.add(a.name)
+            sts = [b.st for b in (a.body if isinstance(a.body, list) else [a.body]) if b.st]
+            if not sts or not sts[0].w3_org_1999_xhtml_element.text:
+                problems.append(f"POU {pou.name}: action {a.name} without an ST body")
+        variables = set()
+        for kind in ["input_vars", "output_vars", "in_out_vars", "local_vars", "external_vars"]:
+            for var_list in getattr(pou.interface, kind, []) or []:
+                variables.update(v.name for v in var_list.variable)
+        for block in sfc.action_block:
+            for a in block.action:
+                if a.reference is not None and a.reference.name not in actions | variables:
+                    problems.append(
+                        f"POU {pou.name}: action {a.local_id} names {a.reference.name}, "
+                        "neither a variable nor an action"
+                    )
         counts["steps"] += len(steps)
         counts["transitions"] += len(sfc.transition)
     return problems, counts

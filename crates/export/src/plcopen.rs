@@ -43,6 +43,8 @@ pub struct Pou {
     pub locals: Vec<Variable>,
     /// Global variables the body uses (`VAR_EXTERNAL`).
     pub externals: Vec<Variable>,
+    /// Named actions (`<actions>`), referenced by name from action associations.
+    pub actions: Vec<NamedAction>,
     /// The SFC network: a sequence starting with the initial step.
     pub body: Vec<Element>,
     /// What the POU's documentation says; empty → no documentation element.
@@ -60,8 +62,17 @@ pub struct Variable {
     pub documentation: Option<String>,
 }
 
-/// The elementary IEC types a chart variable can have.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A named action of the POU with an ST body.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NamedAction {
+    pub name: String,
+    /// The body in ST, one statement a line.
+    pub body: String,
+    pub documentation: Option<String>,
+}
+
+/// The IEC types a chart variable can have.
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum IecType {
     Bool,
     Byte,
@@ -76,6 +87,8 @@ pub enum IecType {
     Dt,
     /// `STRING[n]`.
     String(u16),
+    /// A function block type by name (`<derived name="TON"/>`): the standard function blocks.
+    Derived(String),
 }
 
 /// One element of an SFC sequence.
@@ -128,6 +141,8 @@ pub enum Qualifier {
     Sd,
     Ds,
     Sl,
+    /// Delayed and limited (IEC charts).
+    Dl,
 }
 
 impl Qualifier {
@@ -144,6 +159,7 @@ impl Qualifier {
             Qualifier::Sd => "SD",
             Qualifier::Ds => "DS",
             Qualifier::Sl => "SL",
+            Qualifier::Dl => "DL",
         }
     }
 }
@@ -507,7 +523,7 @@ impl Writer {
         );
     }
 
-    fn ty(&mut self, indent: usize, ty: IecType) {
+    fn ty(&mut self, indent: usize, ty: &IecType) {
         let inner = match ty {
             IecType::Bool => "<BOOL/>".to_owned(),
             IecType::Byte => "<BYTE/>".to_owned(),
@@ -521,6 +537,7 @@ impl Writer {
             IecType::Tod => "<TOD/>".to_owned(),
             IecType::Dt => "<DT/>".to_owned(),
             IecType::String(n) => format!("<string length=\"{n}\"/>"),
+            IecType::Derived(name) => format!("<derived name=\"{}\"/>", escape(name)),
         };
         self.line(indent, &format!("<type>{inner}</type>"));
     }
@@ -537,7 +554,7 @@ impl Writer {
             }
             open.push('>');
             self.line(indent + 1, &open);
-            self.ty(indent + 2, v.ty);
+            self.ty(indent + 2, &v.ty);
             if let Some(init) = &v.initial {
                 self.line(
                     indent + 2,
@@ -838,6 +855,20 @@ fn pou_xml(w: &mut Writer, pou: &Pou, next_id: u64) -> u64 {
     w.variables(5, "localVars", &pou.locals);
     w.variables(5, "externalVars", &pou.externals);
     w.line(4, "</interface>");
+    if !pou.actions.is_empty() {
+        w.line(4, "<actions>");
+        for a in &pou.actions {
+            w.line(5, &format!("<action name=\"{}\">", escape(&a.name)));
+            w.line(6, "<body>");
+            w.st_body(7, &a.body);
+            w.line(6, "</body>");
+            if let Some(doc) = &a.documentation {
+                w.text_element(6, "documentation", doc);
+            }
+            w.line(5, "</action>");
+        }
+        w.line(4, "</actions>");
+    }
     let mut layout = Layout {
         nodes: Vec::new(),
         next_id,
@@ -979,6 +1010,48 @@ mod tests {
         assert_eq!(p1.1, p3.1, "parallel branches start on one row");
         assert!(p1.0 < p3.0, "left to right");
         assert!(p2.1 > p1.1 && s9.1 > p2.1, "top-down");
+    }
+
+    #[test]
+    fn named_actions_and_derived_types() {
+        let pou = Pou {
+            name: "A".to_owned(),
+            locals: vec![Variable {
+                name: "Timer".to_owned(),
+                ty: IecType::Derived("TON".to_owned()),
+                address: None,
+                initial: None,
+                documentation: None,
+            }],
+            actions: vec![NamedAction {
+                name: "Count".to_owned(),
+                body: "IF a < b THEN\n  n := n + 1;\nEND_IF;".to_owned(),
+                documentation: Some("one more".to_owned()),
+            }],
+            body: vec![Element::Step(Step {
+                name: "S".to_owned(),
+                initial: true,
+                actions: vec![ActionAssoc {
+                    qualifier: Qualifier::Dl,
+                    duration: Some("T#1s".to_owned()),
+                    body: ActionBody::Reference("Count".to_owned()),
+                }],
+                documentation: None,
+            })],
+            ..Pou::default()
+        };
+        let xml = String::from_utf8(write(&Project {
+            pous: vec![pou],
+            globals: Vec::new(),
+        }))
+        .unwrap_or_default();
+        assert!(xml.contains("<type><derived name=\"TON\"/></type>"));
+        let actions = xml.find("<actions>").unwrap_or(0);
+        let body = xml.find("<SFC>").unwrap_or(0);
+        assert!(0 < actions && actions < body, "actions before the body");
+        assert!(xml.contains("<action name=\"Count\">"));
+        assert!(xml.contains("IF a &lt; b THEN\n  n := n + 1;\nEND_IF;"));
+        assert!(xml.contains("qualifier=\"DL\" duration=\"T#1s\""));
     }
 
     #[test]

@@ -9,6 +9,9 @@
 //!   mnemonics), 10 charts with parallel and alternative branches, jumps and loops, block
 //!   interfaces and one `symbols` table of exactly 5000 symbols.
 //!
+//! [`iec_chart`] generates one random IEC 61131-3 chart from a seed (the PLCopen round trip's
+//! input).
+//!
 //! [`scaling`] generates the inputs of the scaling families (one size parameter each).
 //!
 //! The output depends only on the seed: the PRNG is a built-in SplitMix64 and nothing iterates
@@ -19,12 +22,14 @@
 mod chart;
 mod graph;
 mod group;
+mod iec;
 mod mnemonic;
 mod rng;
 pub mod scaling;
 mod symbols;
 mod workloads;
 
+pub use iec::{iec_chart, iec_chart_with};
 pub use workloads::{max_graph, max_group, plant};
 
 /// The message variable of [`max_group`] that every one of its 255 instances refers to.

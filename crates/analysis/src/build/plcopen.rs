@@ -24,7 +24,8 @@
 use std::collections::{HashMap, HashSet};
 
 use higraph_export::plcopen::{
-    ActionAssoc, ActionBody, Element, IecType, Pou, Project, Qualifier, Step, Transition, Variable,
+    ActionAssoc, ActionBody, Element, IecType, NamedAction, Pou, Project, Qualifier, Step,
+    Transition, Variable,
 };
 use higraph_syntax::{
     SyntaxKind,
@@ -213,6 +214,8 @@ struct Reader<'g, 'a> {
     sfc_inputs: Vec<Variable>,
     /// What PLCopen cannot express, for the POU documentation.
     notes: Vec<String>,
+    /// The chart says `profile iec;` (`docs/iec.md`): ST statements, IEC jumps, FB members.
+    iec: bool,
 }
 
 impl Reader<'_, '_> {
@@ -241,6 +244,8 @@ impl Reader<'_, '_> {
         self.ctx.out.diags.clear();
         let text = compact(path.syntax());
         Some(match target {
+            // `Timer.Q`, `Timer.PT`: a member of a function block instance (IEC charts).
+            Target::Var(_) if self.iec && path.segments().nth(1).is_some() => text,
             Target::Var(i) => self.scope.vars.get(i)?.name.clone(),
             Target::Symbol { name, ty, address } => {
                 let addr = address.as_ref().and_then(direct_address);
@@ -330,9 +335,15 @@ impl Reader<'_, '_> {
                 Some(inner) => format!("({})", self.expr(&inner, depth + 1)),
                 None => "FALSE".to_owned(),
             },
-            ast::Expr::Prefix(p) => match p.operand() {
-                Some(operand) => format!("NOT {}", self.expr(&operand, depth + 1)),
-                None => "FALSE".to_owned(),
+            ast::Expr::Prefix(p) => match (p.op(), p.operand()) {
+                (Some(ast::PrefixOp::Neg), Some(operand)) => {
+                    let operand = self.expr(&operand, depth + 1);
+                    // `- -5`: two minus signs in a row would read as one token elsewhere.
+                    let gap = if operand.starts_with('-') { " " } else { "" };
+                    format!("-{gap}{operand}")
+                }
+                (_, Some(operand)) => format!("NOT {}", self.expr(&operand, depth + 1)),
+                (_, None) => "FALSE".to_owned(),
             },
             ast::Expr::Bin(b) => {
                 let (Some(op), Some(lhs), Some(rhs)) = (b.op_text(), b.lhs(), b.rhs()) else {
@@ -342,6 +353,7 @@ impl Reader<'_, '_> {
                     "and" => "AND".to_owned(),
                     "or" => "OR".to_owned(),
                     "xor" => "XOR".to_owned(),
+                    "mod" => "MOD".to_owned(),
                     _ => op,
                 };
                 let l = self.expr(&lhs, depth + 1);
@@ -353,14 +365,19 @@ impl Reader<'_, '_> {
 
     /// The conditions of a node's body, ANDed; `empty` when there are none.
     fn conditions(&mut self, node: &higraph_syntax::SyntaxNode, empty: &str) -> String {
-        let parts: Vec<String> = body_children(node)
+        let exprs: Vec<ast::Expr> = body_children(node)
             .filter_map(ast::Condition::cast)
             .filter_map(|c| c.expr())
+            .collect();
+        // An IEC chart's single condition is written as it stands (the import reads it back).
+        let single = self.iec && exprs.len() == 1;
+        let parts: Vec<String> = exprs
+            .into_iter()
             .map(|e| {
                 let text = self.expr(&e, 0);
                 let loose = matches!(&e, ast::Expr::Bin(b)
                     if b.op_text().is_some_and(|o| matches!(o.to_ascii_lowercase().as_str(), "or" | "xor")));
-                if loose { format!("({text})") } else { text }
+                if loose && !single { format!("({text})") } else { text }
             })
             .collect();
         if parts.is_empty() {
@@ -370,8 +387,15 @@ impl Reader<'_, '_> {
         }
     }
 
-    /// `path := expr;` statements of a node's body, one a line.
+    /// `path := expr;` statements of a node's body, one a line (in an IEC chart every
+    /// structured-text statement, [`Reader::st`]).
     fn statements(&mut self, node: &higraph_syntax::SyntaxNode) -> String {
+        if self.iec {
+            let stmts: Vec<ast::Stmt> = body_children(node).filter_map(ast::Stmt::cast).collect();
+            let mut lines = Vec::new();
+            self.st(&stmts, 0, &mut lines);
+            return lines.join("\n");
+        }
         let mut lines = Vec::new();
         for a in body_children(node).filter_map(ast::Assignment::cast) {
             let (Some(target), Some(value)) = (a.target(), a.value()) else {
@@ -398,6 +422,91 @@ impl Reader<'_, '_> {
         lines.join("\n")
     }
 
+    /// Structured-text statements as ST, two spaces of indentation per nesting level.
+    fn st(&mut self, stmts: &[ast::Stmt], depth: usize, lines: &mut Vec<String>) {
+        let pad = "  ".repeat(depth.min(MAX_DEPTH));
+        if depth > MAX_DEPTH {
+            return;
+        }
+        for stmt in stmts {
+            match stmt {
+                ast::Stmt::Assignment(a) => {
+                    let (Some(target), Some(value)) = (a.target(), a.value()) else {
+                        continue;
+                    };
+                    let value = self.expr(&value, depth);
+                    let Some(target) = self.path(&target, false) else {
+                        continue;
+                    };
+                    lines.push(format!("{pad}{target} := {value};"));
+                }
+                ast::Stmt::If(s) => {
+                    let cond = self.opt_expr(s.condition(), depth);
+                    lines.push(format!("{pad}IF {cond} THEN"));
+                    let then: Vec<ast::Stmt> = s.then_statements().collect();
+                    self.st(&then, depth + 1, lines);
+                    for elsif in s.elsifs() {
+                        let cond = self.opt_expr(elsif.condition(), depth);
+                        lines.push(format!("{pad}ELSIF {cond} THEN"));
+                        let body: Vec<ast::Stmt> = elsif.statements().collect();
+                        self.st(&body, depth + 1, lines);
+                    }
+                    if let Some(e) = s.else_clause() {
+                        lines.push(format!("{pad}ELSE"));
+                        let body: Vec<ast::Stmt> = e.statements().collect();
+                        self.st(&body, depth + 1, lines);
+                    }
+                    lines.push(format!("{pad}END_IF;"));
+                }
+                ast::Stmt::Case(s) => {
+                    let selector = self.opt_expr(s.selector(), depth);
+                    lines.push(format!("{pad}CASE {selector} OF"));
+                    for arm in s.arms() {
+                        let labels: Vec<String> = arm
+                            .labels()
+                            .filter_map(|l| {
+                                let low = l.low()?;
+                                Some(match l.high() {
+                                    Some(high) if l.is_range() => format!("{low}..{high}"),
+                                    _ => low.to_string(),
+                                })
+                            })
+                            .collect();
+                        lines.push(format!("{pad}  {}:", labels.join(", ")));
+                        let body: Vec<ast::Stmt> = arm.statements().collect();
+                        self.st(&body, depth + 2, lines);
+                    }
+                    if let Some(e) = s.else_clause() {
+                        lines.push(format!("{pad}  ELSE"));
+                        let body: Vec<ast::Stmt> = e.statements().collect();
+                        self.st(&body, depth + 2, lines);
+                    }
+                    lines.push(format!("{pad}END_CASE;"));
+                }
+                ast::Stmt::Call(c) => {
+                    let Some(callee) = c.callee() else { continue };
+                    let mut args = Vec::new();
+                    for arg in c.args() {
+                        let Some(formal) = arg.formal() else { continue };
+                        let formal = formal.text();
+                        if arg.is_output() {
+                            if let Some(target) = arg.target().and_then(|t| self.path(&t, false)) {
+                                args.push(format!("{formal} => {target}"));
+                            }
+                        } else if let Some(value) = arg.value() {
+                            args.push(format!("{formal} := {}", self.expr(&value, depth)));
+                        }
+                    }
+                    lines.push(format!("{pad}{}({});", callee.text(), args.join(", ")));
+                }
+            }
+        }
+    }
+
+    fn opt_expr(&mut self, e: Option<ast::Expr>, depth: usize) -> String {
+        e.map_or_else(|| "FALSE".to_owned(), |e| self.expr(&e, depth))
+    }
+
     /// A time operand (`T#5S` or a TIME variable).
     fn time(&mut self, operand: &ast::Operand) -> Option<String> {
         match operand {
@@ -407,6 +516,12 @@ impl Reader<'_, '_> {
         }
     }
 }
+
+/// The standard function blocks of IEC 61131-3 a chart variable may have as its type
+/// (`docs/iec.md` §3): written as `<derived name="TON"/>`.
+const STANDARD_FBS: [&str; 10] = [
+    "TON", "TOF", "TP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "SR", "RS",
+];
 
 /// The operating-state flags of `runtime.md` §4.2 (other `SFC.` paths read FALSE).
 const SFC_FLAGS: [&str; 13] = [
@@ -445,6 +560,9 @@ fn qualifier(text: &str) -> Option<Qualifier> {
         "SD" => Qualifier::Sd,
         "DS" => Qualifier::Ds,
         "SL" => Qualifier::Sl,
+        "P1" => Qualifier::P1,
+        "P0" => Qualifier::P0,
+        "DL" => Qualifier::Dl,
         _ => return None,
     })
 }
@@ -602,6 +720,19 @@ impl Reader<'_, '_> {
                                 .map(|&b| self.list(tree, b, seq, depth + 1))
                                 .collect()
                         }
+                        // IEC: the jumps are the step's only exits (a cyclic chart, an `alt`
+                        // branch ending in a jump): a transition and a jump step each, in a
+                        // selection divergence when there are several.
+                        _ if self.iec => {
+                            let mut branches: Vec<Vec<Element>> =
+                                exits.iter().map(|&x| self.jump(tree, x)).collect();
+                            if branches.len() == 1 {
+                                out.append(&mut branches[0]);
+                            } else {
+                                out.push(Element::Selection(branches));
+                            }
+                            continue;
+                        }
                         _ => {
                             for &x in &exits {
                                 self.notes.push(format!(
@@ -613,15 +744,7 @@ impl Reader<'_, '_> {
                         }
                     };
                     for &x in &exits {
-                        let target = tree.elems[x]
-                            .target
-                            .as_ref()
-                            .map(|(t, _)| t.clone())
-                            .unwrap_or_default();
-                        branches.push(vec![
-                            Element::Transition(self.transition(&tree.elems[x])),
-                            Element::Jump(target),
-                        ]);
+                        branches.push(self.jump(tree, x));
                     }
                     out.push(Element::Selection(branches));
                 }
@@ -638,6 +761,8 @@ impl Reader<'_, '_> {
                         Element::Selection(branches)
                     });
                 }
+                // IEC: an `alt` branch that is a single jump.
+                Kind::Jump | Kind::Loop if self.iec => out.extend(self.jump(tree, id)),
                 Kind::Jump | Kind::Loop => self.notes.push(format!(
                     "{} in sequencer {seq}: not exported (it does not follow a step)",
                     elem.render()
@@ -645,6 +770,19 @@ impl Reader<'_, '_> {
             }
         }
         out
+    }
+
+    /// A jump or loop: its transition and a jump step to its target.
+    fn jump(&mut self, tree: &Tree, x: crate::rules::chart::model::ElemId) -> Vec<Element> {
+        let target = tree.elems[x]
+            .target
+            .as_ref()
+            .map(|(t, _)| t.clone())
+            .unwrap_or_default();
+        vec![
+            Element::Transition(self.transition(&tree.elems[x])),
+            Element::Jump(target),
+        ]
     }
 
     fn sequencer(&mut self, sequencer: &ast::Sequencer, name: &str) -> SeqOut {
@@ -754,12 +892,18 @@ fn chart_pou(
         name: identifier(&name),
         ..Pou::default()
     };
+    let iec = chart.profile() == ast::Profile::Iec;
     let mut taken: HashSet<String> = HashSet::new();
     for var in vars.iter().filter(|v| !v.duplicate) {
         let decl = decls.get(&crate::index::key(&var.name));
+        // A standard function block instance (IEC charts): the type by name.
+        let fb = decl
+            .and_then(|d| d.ty())
+            .map(|t| compact(t.syntax()).to_ascii_uppercase())
+            .filter(|t| iec && STANDARD_FBS.contains(&t.as_str()));
         let v = Variable {
             name: var.name.clone(),
-            ty: iec_type(var.ty),
+            ty: fb.map_or_else(|| iec_type(var.ty), IecType::Derived),
             address: None,
             initial: decl
                 .and_then(|d| d.initial_value())
@@ -784,12 +928,17 @@ fn chart_pou(
         external_names: HashSet::new(),
         sfc_inputs: Vec::new(),
         notes: Vec::new(),
+        iec,
     };
     let mut props = Vec::new();
     for prop in chart.props() {
         let (Some(keyword), Some(value)) = (prop.keyword(), prop.value()) else {
             continue;
         };
+        // The profile is what the export follows, nothing PLCopen lacks.
+        if keyword.kind() == SyntaxKind::PROFILE_KW {
+            continue;
+        }
         let value = value.text();
         let keyword = keyword.text().to_ascii_lowercase();
         props.push(format!("{keyword} {value}"));
@@ -804,6 +953,24 @@ fn chart_pou(
             continue;
         }
         seqs.push(reader.sequencer(&sequencer, &seq_name));
+    }
+
+    // Named actions (IEC charts): the POU's actions, with ST bodies.
+    let mut actions_seen = HashSet::new();
+    for action in chart.actions() {
+        let Some(action_name) = action.name().map(|n| n.text()) else {
+            continue;
+        };
+        if !actions_seen.insert(crate::index::key(&action_name)) {
+            continue;
+        }
+        let body = reader.statements(action.syntax());
+        pou.actions.push(NamedAction {
+            name: action_name.clone(),
+            body,
+            documentation: comment(action.syntax()),
+        });
+        taken.insert(action_name.to_ascii_uppercase());
     }
 
     // Identifiers of the POU: variables, externals, the operating-state inputs, then steps.
@@ -821,47 +988,58 @@ fn chart_pou(
     }
 
     let mut doc = Vec::new();
-    let title = match comment(chart.syntax()) {
-        Some(c) => format!("HiGraph chart {name} \"{c}\", exported by higraph-lsp build."),
-        None => format!("HiGraph chart {name}, exported by higraph-lsp build."),
-    };
-    doc.push(title);
-    doc.push(
-        "Call this function block once per PLC cycle. The PCS 7 operating-state logic \
-         (commands start, hold, resume, complete, abort, stop, reset, error and the states they \
-         lead to) has no IEC form: the caller decides when to call the block; SFC.* flags are \
-         BOOL inputs SFC_*."
-            .to_owned(),
-    );
-    if several {
-        let order: Vec<String> = {
-            let mut by_prio: Vec<&SeqOut> = seqs.iter().collect();
-            by_prio.sort_by_key(|s| s.prio);
-            by_prio
-                .iter()
-                .map(|s| format!("{} (prio {})", s.name, s.prio))
-                .collect()
-        };
-        doc.push(format!(
-            "Sequencers: step {idle} selects one by its start condition in the order {}; after \
-             its end step the chart returns to {idle}. Not in IEC: a sequencer of higher priority \
-             displacing a running one.",
-            order.join(", ")
-        ));
-    } else if let Some(s) = seqs.first() {
-        doc.push(format!(
-            "Sequencer {} (prio {}): its start step is the initial step; its start condition \
-             ({}) is the caller's to check.",
-            s.name, s.prio, s.start
-        ));
-    }
-    if !props.is_empty() || !reader.notes.is_empty() {
-        doc.push("Not in IEC:".to_owned());
-        for p in &props {
-            doc.push(format!("- {p}"));
+    if iec {
+        // An IEC chart is an IEC function block already: its comment is the documentation,
+        // followed by what PLCopen cannot hold (`pre`/`post` statements).
+        doc.extend(comment(chart.syntax()));
+        if !props.is_empty() || !reader.notes.is_empty() {
+            doc.push("Not in PLCopen:".to_owned());
+            doc.extend(props.iter().map(|p| format!("- {p}")));
+            doc.extend(reader.notes.iter().map(|n| format!("- {n}")));
         }
-        for n in &reader.notes {
-            doc.push(format!("- {n}"));
+    } else {
+        let title = match comment(chart.syntax()) {
+            Some(c) => format!("HiGraph chart {name} \"{c}\", exported by higraph-lsp build."),
+            None => format!("HiGraph chart {name}, exported by higraph-lsp build."),
+        };
+        doc.push(title);
+        doc.push(
+            "Call this function block once per PLC cycle. The PCS 7 operating-state logic \
+             (commands start, hold, resume, complete, abort, stop, reset, error and the states they \
+             lead to) has no IEC form: the caller decides when to call the block; SFC.* flags are \
+             BOOL inputs SFC_*."
+                .to_owned(),
+        );
+        if several {
+            let order: Vec<String> = {
+                let mut by_prio: Vec<&SeqOut> = seqs.iter().collect();
+                by_prio.sort_by_key(|s| s.prio);
+                by_prio
+                    .iter()
+                    .map(|s| format!("{} (prio {})", s.name, s.prio))
+                    .collect()
+            };
+            doc.push(format!(
+                "Sequencers: step {idle} selects one by its start condition in the order {}; after \
+                 its end step the chart returns to {idle}. Not in IEC: a sequencer of higher priority \
+                 displacing a running one.",
+                order.join(", ")
+            ));
+        } else if let Some(s) = seqs.first() {
+            doc.push(format!(
+                "Sequencer {} (prio {}): its start step is the initial step; its start condition \
+                 ({}) is the caller's to check.",
+                s.name, s.prio, s.start
+            ));
+        }
+        if !props.is_empty() || !reader.notes.is_empty() {
+            doc.push("Not in IEC:".to_owned());
+            for p in &props {
+                doc.push(format!("- {p}"));
+            }
+            for n in &reader.notes {
+                doc.push(format!("- {n}"));
+            }
         }
     }
     pou.documentation = doc.join("\n");
@@ -1109,6 +1287,62 @@ mod tests {
         insta::assert_snapshot!(xml);
     }
 
+    /// An IEC chart: no `Idle`, the first step initial, the cyclic jump as a transition and a
+    /// jump step, FB instances as derived types, a named action, P1.
+    #[test]
+    fn iec_traffic_light() {
+        let xml = fixture("iec_ampel.higraph");
+        assert_eq!(xml.matches("initialStep=\"true\"").count(), 1);
+        assert!(xml.contains("name=\"Rot_Phase\" initialStep=\"true\""));
+        assert!(!xml.contains("Idle"));
+        assert!(xml.contains("<derived name=\"TON\"/>"));
+        assert!(xml.contains("<derived name=\"CTU\"/>"));
+        assert!(xml.contains("<action name=\"Zaehlen\">"));
+        assert!(xml.contains("Zyklen(CU := TRUE, R := FALSE, PV := 100, CV =&gt; Anzahl);"));
+        assert!(xml.contains("qualifier=\"P1\""));
+        assert!(xml.contains("<reference name=\"Zaehlen\"/>"));
+        assert!(xml.contains("Takt.Q AND Anforderung"));
+        assert!(xml.contains("Rot_Gelb_Phase_mit_langem_Namen.T &gt;= T#2s"));
+        assert!(xml.contains("NOT Anforderung OR Anzahl MOD 2 = 1"));
+        // The cyclic jump: its transition, then the jump step; no divergence.
+        assert_eq!(xml.matches("<selectionDivergence").count(), 0);
+        let zurueck = xml.find("<inline name=\"Zurueck\">").unwrap_or(0);
+        let jump = xml.find("targetName=\"Rot_Phase\"").unwrap_or(0);
+        assert!(0 < zurueck && zurueck < jump);
+        // The documentation is the comment.
+        assert!(xml.contains("<documentation><xhtml:p>traffic light</xhtml:p></documentation>"));
+        insta::assert_snapshot!(xml);
+    }
+
+    /// Alt branches converging, ending in a jump and being one; parallel; every qualifier;
+    /// IF/CASE/calls in ST.
+    #[test]
+    fn iec_constructs() {
+        let xml = fixture("iec_constructs.higraph");
+        for q in [
+            "P1", "N", "P0", "S", "R", "P", "L", "D", "SD", "DS", "SL", "DL",
+        ] {
+            assert!(xml.contains(&format!("qualifier=\"{q}\"")), "{q}");
+        }
+        assert!(xml.contains("qualifier=\"DL\" duration=\"T#1s\""));
+        assert!(xml.contains("qualifier=\"SD\" duration=\"Dauer\""));
+        // The alt: three branches, priorities 1..3, one open branch (no convergence).
+        assert_eq!(xml.matches("<selectionDivergence").count(), 1);
+        assert_eq!(xml.matches("<selectionConvergence").count(), 0);
+        assert_eq!(attrs(&xml, "priority"), vec![1, 2, 3]);
+        assert_eq!(xml.matches("<jumpStep").count(), 3);
+        assert_eq!(xml.matches("<simultaneousDivergence").count(), 1);
+        assert!(xml.contains("Start AND (Stufe + 1) * 2 &gt; 4"));
+        assert!(xml.contains("Stufe = -1"));
+        assert!(xml.contains("Modus := -Modus * 2;"));
+        assert!(xml.contains("IF Teile &gt; 10 AND NOT Start THEN\n  Teile := 0;\nELSIF"));
+        assert!(xml.contains("CASE Stufe OF\n  1:\n    Modus := 1;\n  2..4, -1:"));
+        assert!(xml.contains("  ELSE\n    Speicher(S1 := Start, R := FALSE);\nEND_CASE;"));
+        assert!(xml.contains("Pruefen.X OR Teile &gt; 0"));
+        assert!(xml.contains("<derived name=\"CTUD\"/>"));
+        insta::assert_snapshot!(xml);
+    }
+
     #[test]
     fn deterministic() {
         let files = folder(&root().join("examples/mixer"));
@@ -1145,6 +1379,43 @@ mod tests {
             }
         }
         assert!(n > 100, "{n} chart fixtures");
+    }
+
+    /// The charts `higraph-lsp import` makes of the PLCopen files of real tools' dialects
+    /// (`tests/data/plcopen/import/`, CODESYS, Beremiz and the neutral format), formatted:
+    /// `(file stem + POU, text)`.
+    fn imported_charts() -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        for stem in ["codesys_ampel", "beremiz_station", "neutral_mixer"] {
+            let path = root().join(format!("tests/data/plcopen/import/{stem}.xml"));
+            let xml = std::fs::read_to_string(&path).unwrap_or_default();
+            let Ok(import) = higraph_import::import(&xml) else {
+                continue;
+            };
+            for chart in import.charts {
+                let text = crate::format::format(&chart.text).unwrap_or(chart.text);
+                out.push((format!("{stem}-{}", chart.pou), text));
+            }
+        }
+        out
+    }
+
+    /// A real IEC chart imports, checks clean and exports back (issue 14, "done when"): the
+    /// charts imported from the CODESYS, Beremiz and neutral files build, with the wiring
+    /// intact (`scripts/plcopen-check` validates the same documents against the schema).
+    #[test]
+    fn imported_charts_export_back() {
+        let charts = imported_charts();
+        assert!(charts.len() >= 3, "{charts:?}");
+        for (name, text) in charts {
+            let (xml, errors) = xml(&load_fixture(&[(
+                "main.higraph".to_owned(),
+                text.clone().into_bytes(),
+            )]));
+            assert!(!errors, "{name} has errors:\n{text}");
+            check_wiring(&xml);
+            assert!(xml.contains("initialStep=\"true\""), "{name}");
+        }
     }
 
     /// For `scripts/plcopen-check`: writes the documents of the examples, the fixtures and the
@@ -1200,6 +1471,24 @@ mod tests {
             workspaces.push((
                 rel.trim_end_matches(".higraph").to_owned(),
                 vec![("main.higraph".to_owned(), text)],
+            ));
+        }
+        // The charts the import makes of the hand-written CODESYS, Beremiz and neutral files:
+        // what a real IEC chart becomes after `import`, exported back.
+        for (name, text) in imported_charts() {
+            workspaces.push((
+                format!("reexport-{name}"),
+                vec![("main.higraph".to_owned(), text.into_bytes())],
+            ));
+        }
+        // Generated IEC charts (the round trip's input), a few seeds.
+        for seed in 0..20 {
+            workspaces.push((
+                format!("iec-generated-{seed}"),
+                vec![(
+                    "main.higraph".to_owned(),
+                    higraph_workload::iec_chart(seed).into_bytes(),
+                )],
             ));
         }
         let mut written = 0;

@@ -611,6 +611,9 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
     let file = item.file(db);
     let at = |range| Loc::in_item(file, item.index(db), range);
     let chart_name = chart.name().map(|n| n.text()).unwrap_or_default();
+    // An IEC chart (`docs/iec.md`): its cyclic jumps, qualifiers, actions and function block
+    // variables are IEC constructs the export writes as they are.
+    let iec = chart.profile() == ast::Profile::Iec;
     let mut out = Vec::new();
 
     // HG8103: variables, then the symbols and addresses the chart uses, then constants.
@@ -712,6 +715,7 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
                     | SyntaxKind::CHART_TRANS
                     | SyntaxKind::JUMP
                     | SyntaxKind::LOOP
+                    | SyntaxKind::CHART_ACTION
             )
         });
         let Some(token) = node.first_token().filter(|t| t.kind() == SyntaxKind::IDENT) else {
@@ -740,6 +744,13 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
         let is_switching = prop
             .keyword()
             .is_some_and(|k| k.kind() == SyntaxKind::SWITCHING_KW);
+        // The profile chooses how the chart is exported; nothing of it is lost.
+        if prop
+            .keyword()
+            .is_some_and(|k| k.kind() == SyntaxKind::PROFILE_KW)
+        {
+            continue;
+        }
         if is_switching
             && prop
                 .value()
@@ -793,10 +804,10 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
         let parts = [
             sequencer
                 .pre()
-                .map(|p| (p.syntax().clone(), p.assignments().next().is_some())),
+                .map(|p| (p.syntax().clone(), p.statements().next().is_some())),
             sequencer
                 .post()
-                .map(|p| (p.syntax().clone(), p.assignments().next().is_some())),
+                .map(|p| (p.syntax().clone(), p.statements().next().is_some())),
         ];
         for (part, written) in parts.into_iter().flatten() {
             if let (true, Some(keyword)) = (written, part.first_token()) {
@@ -818,7 +829,8 @@ fn chart_rules<'db>(db: &'db dyn salsa::Database, ws: Workspace, item: ItemLoc<'
         let successor = std::iter::successors(node.next_sibling(), |n| n.next_sibling())
             .filter_map(ast::SeqElement::cast)
             .find(|e| !matches!(e, ast::SeqElement::Jump(_) | ast::SeqElement::Loop(_)));
-        if successor.is_some() {
+        // In an IEC chart the jump is the step's exit: a transition and a jump step.
+        if successor.is_some() || iec {
             continue;
         }
         let header_end = node

@@ -1091,8 +1091,8 @@ fn is_written_path(path: &ast::Path) -> bool {
     let Some(parent) = path.syntax().parent() else {
         return false;
     };
-    if parent.kind() == SyntaxKind::FB_ARG {
-        return true;
+    if let Some(arg) = ast::FbArg::cast(parent.clone()) {
+        return arg.is_output();
     }
     let first_path = parent.children().find(|n| n.kind() == SyntaxKind::PATH);
     matches!(
@@ -2219,5 +2219,42 @@ symbols < Dosieren : FC 10; >
         assert_eq!(check("graph G < state 0 < C: U $0Nix; > >"), "nothing");
         assert_eq!(check("graph G < $0state 0 < > >"), "nothing");
         assert_eq!(check("graph G < state 0 < C: U $0E 1.0; > >"), "nothing");
+    }
+
+    #[test]
+    fn iec_instances_steps_and_actions() {
+        let text = "chart Ampel <
+  profile iec;
+  stat < Uhr : TON; Start : BOOL; Zeit : TIME; >
+  action Zaehlen < Start := FALSE; >
+  sequencer Haupt <
+    step Rot < P1 Zaehlen; run < Uhr(IN := Start, ET => Zeit); > >
+    trans Weiter < Uhr.Q and Rot.T > T#1S; >
+    step Gruen < >
+  >
+>
+";
+        insta::assert_snapshot!(check(&text.replacen("Uhr :", "$0Uhr :", 1)), @"
+        variable Uhr 'Uhr'
+        main.higraph 38..41 'Uhr' Declaration
+        main.higraph 221..224 'Uhr' Read
+        main.higraph 168..171 'Uhr' ReadWrite
+        ");
+        insta::assert_snapshot!(check(&text.replacen("IN := Start", "IN := $0Start", 1)), @"
+        variable Start 'Start'
+        main.higraph 49..54 'Start' Declaration
+        main.higraph 97..102 'Start' Write
+        main.higraph 178..183 'Start' Read
+        ");
+        insta::assert_snapshot!(check(&text.replacen("Rot.T", "$0Rot.T", 1)), @"
+        step Haupt.Rot 'Rot'
+        main.higraph 144..147 'Rot' Declaration
+        main.higraph 231..234 'Rot' Read
+        ");
+        insta::assert_snapshot!(check(&text.replacen("P1 Zaehlen", "P1 $0Zaehlen", 1)), @"
+        action Zaehlen 'Zaehlen'
+        main.higraph 87..94 'Zaehlen' Declaration
+        main.higraph 153..160 'Zaehlen' Name
+        ");
     }
 }
