@@ -104,8 +104,8 @@ fn the_model_sees_the_structure_of_iec_statements() {
             "CASE n OF 1: x := 1; y := 2; END_CASE;",
         ),
         (
-            "CASE n OF 1, 2: x := 1; END_CASE;",
-            "CASE n OF 1..2: x := 1; END_CASE;",
+            "CASE n OF 1, 3: x := 1; END_CASE;",
+            "CASE n OF 1..3: x := 1; END_CASE;",
         ),
         ("T(IN := a, Q => b);", "T(IN := a); b := T.Q;"),
     ];

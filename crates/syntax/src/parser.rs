@@ -629,6 +629,23 @@ impl<'t> Parser<'t> {
             .push(SyntaxError::new(ErrorCode::HG0001, range, message));
     }
 
+    /// HG0001 at the current token, with a related location: `expected {expected}, found
+    /// {found}`, and `related_message` at `related` (the `IF` an `END_IF` would close).
+    pub(crate) fn error_expected_related(
+        &mut self,
+        expected: &str,
+        related: TextRange,
+        related_message: &str,
+    ) {
+        let range = self.nth_range(0);
+        let message = format!("expected {expected}, found {}", self.found());
+        self.recoveries += 1;
+        self.errors.push(
+            SyntaxError::new(ErrorCode::HG0001, range, message)
+                .with_related(related, related_message),
+        );
+    }
+
     /// HG0002: the element is complete but its `;` is missing.
     pub(crate) fn error_missing_semi(&mut self, element: &dyn fmt::Display) {
         let at = TextRange::empty(self.last_end);

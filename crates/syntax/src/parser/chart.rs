@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+use rowan::TextRange;
+
 use super::{Parser, Scope, items, lazy, stl};
 use crate::{SyntaxKind, SyntaxKind::*};
 
@@ -486,6 +488,7 @@ fn expect_stmt_kw(p: &mut Parser<'_>, kw: SyntaxKind, text: &str) {
 /// `IF c THEN stmts { ELSIF c THEN stmts } [ ELSE stmts ] END_IF ;`
 fn if_stmt(p: &mut Parser<'_>) {
     p.start(IF_STMT);
+    let start = p.nth_range(0);
     p.bump_keyword();
     if condition_expr(p, THEN_KW) {
         expect_stmt_kw(p, THEN_KW, "'THEN'");
@@ -503,7 +506,7 @@ fn if_stmt(p: &mut Parser<'_>) {
     if at_stmt_kw(p, ELSE_KW) {
         else_clause(p);
     }
-    end_stmt(p, END_IF_KW, "'END_IF'");
+    end_stmt(p, END_IF_KW, "'END_IF'", start);
     p.finish_node();
 }
 
@@ -539,18 +542,20 @@ fn else_clause(p: &mut Parser<'_>) {
 
 /// `END_IF;` / `END_CASE;`: one HG0001 where the keyword is missing (the statements before
 /// it stay in the statement).
-fn end_stmt(p: &mut Parser<'_>, kw: SyntaxKind, text: &'static str) {
+fn end_stmt(p: &mut Parser<'_>, kw: SyntaxKind, text: &'static str, start: TextRange) {
     if at_stmt_kw(p, kw) {
         p.bump_keyword();
         p.expect_semi(&text, |p| matches!(p.current(), IDENT | STRING));
     } else {
-        p.error_expected(text);
+        let opened = if kw == END_IF_KW { "'IF'" } else { "'CASE'" };
+        p.error_expected_related(text, start, &format!("this {opened} is not closed"));
     }
 }
 
 /// `CASE e OF { labels : stmts } [ ELSE stmts ] END_CASE ;`
 fn case_stmt(p: &mut Parser<'_>) {
     p.start(CASE_STMT);
+    let start = p.nth_range(0);
     p.bump_keyword();
     if condition_expr(p, OF_KW) {
         expect_stmt_kw(p, OF_KW, "'OF'");
@@ -568,7 +573,7 @@ fn case_stmt(p: &mut Parser<'_>) {
     if at_stmt_kw(p, ELSE_KW) {
         else_clause(p);
     }
-    end_stmt(p, END_CASE_KW, "'END_CASE'");
+    end_stmt(p, END_CASE_KW, "'END_CASE'", start);
     p.finish_node();
 }
 
