@@ -1087,6 +1087,12 @@ pub const RULES: &[Rule] = &[
         "action name '{name}' is already used in chart {c}",
     ),
     rule(
+        "HG7511",
+        Severity::Hint,
+        false,
+        "action '{name}' is never used: no qualifier of a step names it, so it never runs",
+    ),
+    rule(
         "HG8001",
         Severity::Warning,
         false,

@@ -15,7 +15,8 @@ use higraph_analysis::registry::RULES;
 /// tabling them; the HG75xx of the IEC 61131-3 chart profile (`docs/iec.md`, issue 14).
 const PROJECT_CODES: &[&str] = &[
     "HG0012", "HG0013", "HG7501", "HG7502", "HG7503", "HG7504", "HG7505", "HG7506", "HG7507",
-    "HG7508", "HG7509", "HG7510", "HG8101", "HG8102", "HG8103", "HG8104", "HG8105", "HG8106",
+    "HG7508", "HG7509", "HG7510", "HG7511", "HG8101", "HG8102", "HG8103", "HG8104", "HG8105",
+    "HG8106",
 ];
 
 fn catalogue() -> Option<(PathBuf, String)> {

@@ -91,6 +91,28 @@ pub(crate) fn check(ctx: &mut Ctx<'_>, chart: &ast::Chart) {
     }
     exprs::Walker::new(ctx, &mut scope).actions();
     decls::report_unused(ctx, &scope);
+    report_unused_actions(ctx, &scope);
+}
+
+/// HG7511: an action of an IEC chart that no qualifier names never runs.
+fn report_unused_actions(ctx: &mut Ctx<'_>, scope: &Scope) {
+    if !scope.iec {
+        return;
+    }
+    for (action, used) in scope.actions.iter().zip(&scope.action_used) {
+        if action.duplicate || *used {
+            continue;
+        }
+        let diag = ctx.diag(
+            "HG7511",
+            action.name_range,
+            format!(
+                "action '{}' is never used: no qualifier of a step names it, so it never runs",
+                action.name
+            ),
+        );
+        ctx.push(diag);
+    }
 }
 
 /// The chart's actions as declarations: HG7502 for each in a PCS 7 chart, HG7510 for a name
@@ -274,6 +296,8 @@ pub(crate) struct Scope {
     /// The chart's actions in text order (also in a PCS 7 chart, where each is HG7502, so
     /// that their uses do not cascade).
     pub actions: Vec<ActionDecl>,
+    /// Which actions a qualifier names (HG7511).
+    pub action_used: Vec<bool>,
     /// The names of every step of every sequencer, in text order.
     pub steps: Vec<String>,
 }
@@ -313,12 +337,14 @@ impl Scope {
             .filter_map(|s| s.name().and_then(|n| n.token()))
             .map(|t| t.text().to_owned())
             .collect();
+        let action_used = vec![false; actions.len()];
         Scope {
             chart,
             vars,
             used,
             iec,
             actions,
+            action_used,
             steps,
         }
     }

@@ -492,6 +492,9 @@ impl<'c, 'a> Walker<'c, 'a> {
             return None;
         }
         let i = self.scope.action(token.text())?;
+        if let Some(used) = self.scope.action_used.get_mut(i) {
+            *used = true;
+        }
         if let Some(action) = self.scope.actions.get(i) {
             resolve::case_hint(self.ctx, token.text_range(), token.text(), &action.name);
         }
