@@ -481,7 +481,10 @@ pub(crate) fn code_action(
         }
     }
     let range = convert::text_range(&index, params.range, snapshot.encoding);
-    let actions = snapshot.analysis.code_actions(&path, range)?;
+    let actions =
+        snapshot
+            .analysis
+            .code_actions_with(&path, range, snapshot.support.code_action_resolve)?;
     let mut response = Vec::new();
     for action in actions {
         let diagnostic_range = action
@@ -508,17 +511,84 @@ pub(crate) fn code_action(
                 |file, range| location(snapshot, &files.get(file.0 as usize)?.path, range),
             ));
         }
-        let edit = workspace_edit(snapshot, &action.edit)?;
+        let (edit, data) = match (action.deferred, &action.code, action.diagnostic_range) {
+            // The client asks `codeAction/resolve` for the edit when the user picks it.
+            (Some(fix), Some(code), Some(range)) => {
+                let data = ActionData {
+                    uri: params.text_document.uri.clone(),
+                    generation: snapshot.generation(),
+                    code: code.clone(),
+                    range: convert::range(&index, range, snapshot.encoding),
+                    fix,
+                };
+                (None, serde_json::to_value(data).ok())
+            }
+            _ => (Some(workspace_edit(snapshot, &action.edit)?), None),
+        };
         response.push(lsp::CodeActionOrCommand::CodeAction(convert::code_action(
             &action,
             diagnostics,
             edit,
+            data,
         )));
     }
     if params.context.only.is_none() {
         response.extend(super::build::code_actions(snapshot, &path, range)?);
     }
     Ok(Some(response))
+}
+
+/// The data of a code action whose edit `codeAction/resolve` computes: the document, the
+/// contents generation it was listed in, its diagnostic (code and range) and the number of
+/// the fix among the diagnostic's fixes.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct ActionData {
+    uri: lsp::Uri,
+    generation: u64,
+    code: String,
+    range: lsp::Range,
+    fix: usize,
+}
+
+/// `codeAction/resolve`: the edit of a quick fix listed without it (a rename fix, for a
+/// client that resolves edits). An action listed before a file changed answers
+/// `ContentModified` (the client lists the actions again); one that has its edit, or is no
+/// deferred fix, comes back unchanged.
+pub(crate) fn code_action_resolve(
+    snapshot: &Snapshot,
+    mut action: lsp::CodeAction,
+) -> HandlerResult<lsp::CodeAction> {
+    if action.edit.is_some() {
+        return Ok(action);
+    }
+    let Some(data) = action
+        .data
+        .clone()
+        .and_then(|data| serde_json::from_value::<ActionData>(data).ok())
+    else {
+        return Ok(action);
+    };
+    if data.generation != snapshot.generation() {
+        return Err(HandlerError::Cancelled);
+    }
+    let document = lsp::TextDocumentIdentifier::new(data.uri.clone());
+    let Some((path, index)) = file(snapshot, &document) else {
+        return Err(HandlerError::Failed(
+            "the code action's document is not a file of the workspace".into(),
+        ));
+    };
+    let range = convert::text_range(&index, data.range, snapshot.encoding);
+    let Some(resolved) = snapshot
+        .analysis
+        .resolve_code_action(&path, &data.code, range, data.fix)?
+    else {
+        return Err(HandlerError::Failed(format!(
+            "the fix '{}' cannot be applied: the name is refused or the diagnostic is gone",
+            action.title
+        )));
+    };
+    action.edit = Some(workspace_edit(snapshot, &resolved.edit)?);
+    Ok(action)
 }
 
 /// `textDocument/formatting`: the canonical layout, or why the file cannot be formatted.
