@@ -48,9 +48,12 @@ fn rename_actions(server: &mut Server, tree: &TempTree) -> (Value, Vec<Value>) {
     (diagnostic, actions)
 }
 
+/// The edits of one file: (line, character, new text) of each start, sorted.
+type FileEdits = (String, Vec<(u64, u64, String)>);
+
 /// The edits of a workspace edit as (file name, sorted `[line, character, newText]`).
-fn edits(edit: &Value) -> Vec<(String, Vec<(u64, u64, String)>)> {
-    let mut out: Vec<(String, Vec<(u64, u64, String)>)> = edit["changes"]
+fn edits(edit: &Value) -> Vec<FileEdits> {
+    let mut out: Vec<FileEdits> = edit["changes"]
         .as_object()
         .expect("changes")
         .iter()

@@ -262,7 +262,7 @@ impl Analysis {
     /// ([`crate::Fix::rename`]: no edits yet), and `Err` instead of unwinding when the host
     /// changed the database meanwhile. For the language server, which publishes no fixes.
     pub fn diagnostics_cancellable(&self) -> Cancellable<Vec<(FileId, Vec<Diagnostic>)>> {
-        self.with_db(|db, ws| check::all_diagnostics(db, ws))
+        self.with_db(check::all_diagnostics)
     }
 
     /// `fixes` with their pending renames carried out ([`crate::Fix::rename`]); a fix whose
