@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use higraph_analysis::ide::{CallItem, FilePosition, LinkTarget, SourceChange};
-use higraph_analysis::{LineIndex, TextRange};
+use higraph_analysis::{LineIndex, TextRange, TextSize};
 use tower_lsp_server::ls_types as lsp;
 
 use super::convert;
@@ -778,8 +778,9 @@ pub(crate) fn outgoing_calls(
 pub(crate) const SHOW_REFERENCES: &str = "higraph.showReferences";
 
 /// `textDocument/codeLens`: the test lenses (`▶ Run test`, already resolved) and the count
-/// lenses, unresolved: their range and, as data, the document, the counted name's position
-/// and the kind of count.
+/// lenses, unresolved: their range (which ends with the counted name) and, as data, the
+/// document and the kind of count. A big graph has hundreds of lenses, and the answer's
+/// size is what it costs over stdio: the data holds nothing the range gives.
 pub(crate) fn code_lens(
     snapshot: &Snapshot,
     params: lsp::CodeLensParams,
@@ -789,14 +790,13 @@ pub(crate) fn code_lens(
     if let Some(path) = snapshot.path(&uri)
         && let Some(index) = snapshot.line_index(&path)
     {
+        let uri = serde_json::json!(uri);
         for lens in snapshot.analysis.code_lenses(&path)? {
-            let position = convert::position(&index, lens.name, snapshot.encoding);
             lenses.push(lsp::CodeLens {
                 range: convert::range(&index, lens.range, snapshot.encoding),
                 command: None,
                 data: Some(serde_json::json!({
                     "uri": uri,
-                    "position": position,
                     "kind": lens.kind.as_str(),
                 })),
             });
@@ -809,7 +809,6 @@ pub(crate) fn code_lens(
 #[derive(serde::Deserialize)]
 struct LensData {
     uri: lsp::Uri,
-    position: lsp::Position,
     kind: String,
 }
 
@@ -838,14 +837,21 @@ pub(crate) fn code_lens_resolve(
             data.kind
         )));
     };
-    let params = lsp::TextDocumentPositionParams {
-        text_document: lsp::TextDocumentIdentifier::new(data.uri.clone()),
-        position: data.position,
-    };
-    let resolved = match file_position(snapshot, &params) {
-        Some((position, _)) => snapshot.analysis.resolve_code_lens(&position, kind)?,
+    // The range ends with the counted name: its last character is in the name.
+    let document = lsp::TextDocumentIdentifier::new(data.uri.clone());
+    let name = file(snapshot, &document).map(|(path, index)| {
+        let end = convert::offset(&index, lens.range.end, snapshot.encoding);
+        // (A byte inside the last character is enough: the token there is the name.)
+        let offset = end - TextSize::from(u32::from(end > TextSize::from(0)));
+        (FilePosition { path, offset }, index)
+    });
+    let resolved = match &name {
+        Some((position, _)) => snapshot.analysis.resolve_code_lens(position, kind)?,
         None => None,
     };
+    let position = name.map_or(lens.range.end, |(position, index)| {
+        convert::position(&index, position.offset, snapshot.encoding)
+    });
     lens.command = Some(match resolved {
         Some(resolved) => {
             let locations: Vec<lsp::Location> = resolved
@@ -858,7 +864,7 @@ pub(crate) fn code_lens_resolve(
                 command: SHOW_REFERENCES.to_owned(),
                 arguments: Some(vec![
                     serde_json::json!(data.uri),
-                    serde_json::json!(data.position),
+                    serde_json::json!(position),
                     serde_json::json!(locations),
                 ]),
             }
