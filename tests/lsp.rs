@@ -4,6 +4,8 @@
 #[path = "lsp/client.rs"]
 mod client;
 
+#[path = "lsp/action_resolve.rs"]
+mod action_resolve;
 #[path = "lsp/build.rs"]
 mod build;
 #[path = "lsp/calls.rs"]

@@ -87,12 +87,22 @@ fn count_lenses_resolve_to_the_references() {
         "{resolved:?}"
     );
 
-    // Every command opens the references view; a symbol's locations are its references.
+    // Every command opens the references view at the counted name (the lens's range ends
+    // with it, the data holds only the document and the kind); a symbol's locations are its
+    // references.
     for lens in &resolved {
         let command = &lens["command"];
         assert_eq!(command["command"], "higraph.showReferences", "{lens}");
         assert_eq!(command["arguments"][0], uri);
-        assert_eq!(command["arguments"][1], lens["data"]["position"]);
+        let (at, end) = (&command["arguments"][1], &lens["range"]["end"]);
+        assert_eq!(at["line"], end["line"], "{lens}");
+        assert_eq!(
+            at["character"].as_u64().map(|c| c + 1),
+            end["character"].as_u64(),
+            "{lens}"
+        );
+        let data = lens["data"].as_object().expect("data");
+        assert_eq!(data.len(), 2, "only the document and the kind: {lens}");
     }
     let taster = &resolved[0];
     let references = server
@@ -100,7 +110,7 @@ fn count_lenses_resolve_to_the_references() {
             "textDocument/references",
             json!({
                 "textDocument": {"uri": uri},
-                "position": taster["data"]["position"],
+                "position": taster["command"]["arguments"][1],
                 "context": {"includeDeclaration": false},
             }),
         )

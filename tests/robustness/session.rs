@@ -49,6 +49,7 @@ const POSITION_METHODS: &[&str] = &[
     "textDocument/documentHighlight",
     "textDocument/prepareRename",
     "textDocument/rename",
+    "textDocument/prepareCallHierarchy",
 ];
 
 const DOCUMENT_METHODS: &[&str] = &[
@@ -58,6 +59,19 @@ const DOCUMENT_METHODS: &[&str] = &[
     "textDocument/formatting",
     "textDocument/inlayHint",
     "textDocument/codeAction",
+    "textDocument/codeLens",
+];
+
+/// The kinds of count lenses (`codeLens/resolve` data), and one that is none.
+const LENS_KINDS: &[&str] = &[
+    "graphInstances",
+    "graphReferences",
+    "groupInstances",
+    "groupMessages",
+    "stateIncoming",
+    "stateOutgoing",
+    "symbolUses",
+    "x",
 ];
 
 /// One workspace file as the session sees it.
@@ -114,6 +128,21 @@ fn garbage(rng: &mut Rng) -> String {
 
 #[test]
 fn a_random_session_ends_with_the_diagnostics_of_check() {
+    random_session(false);
+}
+
+/// The same session with a client that pulls diagnostics (nothing is pushed): the final
+/// `workspace/diagnostic` report must equal `check`.
+#[test]
+fn a_random_pulling_session_ends_with_the_diagnostics_of_check() {
+    random_session(true);
+}
+
+/// A seeded random session of edits, opens, closes and requests — positions, documents,
+/// lenses and their resolution, call hierarchies, pulled diagnostics, cancellations, unknown
+/// methods — that ends with the diagnostics of `check --format json` on the same texts:
+/// published ones, or with `pull` those of a final `workspace/diagnostic`.
+fn random_session(pull: bool) {
     let started = Instant::now();
     let tree = TempTree::new();
     tree.file("higraph.toml", "[workspace]\nmnemonic = \"simatic\"\n")
@@ -136,8 +165,13 @@ fn a_random_session_ends_with_the_diagnostics_of_check() {
         version: 0,
     })
     .collect();
-    let mut server = Server::indexed(&tree.path());
-    let mut rng = Rng(0x5eed_2026);
+    let mut capabilities = json!({"window": {"workDoneProgress": true}});
+    if pull {
+        capabilities["textDocument"] = json!({"diagnostic": {}});
+    }
+    let (mut server, _) = Server::initialized(&tree.path(), capabilities);
+    server.wait_for_progress_end();
+    let mut rng = Rng(if pull { 0x5eed_2027 } else { 0x5eed_2026 });
     let mut ids: Vec<Value> = Vec::new();
     let mut next_id = 10_000;
     let mut request = |server: &mut Server, ids: &mut Vec<Value>, method: &str, params: Value| {
@@ -149,7 +183,7 @@ fn a_random_session_ends_with_the_diagnostics_of_check() {
 
     for _ in 0..3000 {
         let at = rng.below(docs.len());
-        match rng.below(20) {
+        match rng.below(24) {
             // An edit of an open document: a fragment, garbage, or a deletion.
             0..=6 => {
                 let Some((text, _)) = &docs[at].open else {
@@ -250,6 +284,66 @@ fn a_random_session_ends_with_the_diagnostics_of_check() {
                 request(&mut server, &mut ids, method, json!({}));
             }
             18 => server.notify("$/unknownNotification", json!({"x": 1})),
+            // Pulled diagnostics, with a result id that may be stale or made up.
+            19 => {
+                let previous = *rng.pick(&["", "0", "ffffffffffffffff"]);
+                let params = if rng.chance(50) {
+                    json!({"textDocument": {"uri": docs[at].uri}, "previousResultId": previous})
+                } else {
+                    json!({"textDocument": {"uri": docs[at].uri}})
+                };
+                request(&mut server, &mut ids, "textDocument/diagnostic", params);
+            }
+            20 => {
+                let previous = if rng.chance(50) {
+                    json!([{"uri": docs[at].uri, "value": "0"}])
+                } else {
+                    json!([])
+                };
+                request(
+                    &mut server,
+                    &mut ids,
+                    "workspace/diagnostic",
+                    json!({"previousResultIds": previous}),
+                );
+            }
+            // A code action to resolve (the data of a rename fix, maybe stale or made up).
+            21 if rng.chance(30) => {
+                let (line, character) = (rng.below(14), rng.below(60));
+                let at_position = json!({"start": {"line": line, "character": character},
+                                         "end": {"line": line, "character": character + 4}});
+                let params = json!({
+                    "title": "Rename", "kind": "quickfix",
+                    "data": {"uri": docs[at].uri, "generation": rng.below(3000), "code": "HG1101",
+                             "range": at_position, "fix": rng.below(2)},
+                });
+                request(&mut server, &mut ids, "codeAction/resolve", params);
+            }
+            // A count lens to resolve: any position, any kind (stale or made up).
+            21 => {
+                let (line, character) = (rng.below(14), rng.below(60));
+                let kind = *rng.pick(LENS_KINDS);
+                let params = json!({
+                    "range": {"start": {"line": 0, "character": 0}, "end": {"line": 0, "character": 1}},
+                    "data": {"uri": docs[at].uri, "kind": kind,
+                             "position": {"line": line, "character": character}},
+                });
+                request(&mut server, &mut ids, "codeLens/resolve", params);
+            }
+            // Calls of a call hierarchy item: any position, with or without the server's data.
+            22 => {
+                let (line, character) = (rng.below(14), rng.below(60));
+                let direction =
+                    *rng.pick(&["callHierarchy/incomingCalls", "callHierarchy/outgoingCalls"]);
+                let at_position = json!({"start": {"line": line, "character": character},
+                                         "end": {"line": line, "character": character}});
+                let mut item = json!({"name": "V", "kind": 5, "uri": docs[at].uri,
+                                      "range": at_position, "selectionRange": at_position});
+                if rng.chance(50) {
+                    item["data"] = json!({"path": docs[at].relative, "offset": rng.below(400)});
+                }
+                request(&mut server, &mut ids, direction, json!({"item": item}));
+            }
             _ => request(
                 &mut server,
                 &mut ids,
@@ -270,10 +364,18 @@ fn a_random_session_ends_with_the_diagnostics_of_check() {
         "{:?}",
         server.answered_twice
     );
-    // The last version of every open document is published; then the server goes quiet.
-    for doc in &docs {
-        if let Some((_, version)) = &doc.open {
-            server.wait_for_diagnostics(&doc.uri, *version);
+    // The last version of every open document is published (or, pulling, the final pull
+    // sees it); then the server goes quiet.
+    let pulled = pull.then(|| {
+        server
+            .request("workspace/diagnostic", json!({"previousResultIds": []}))
+            .expect("workspace/diagnostic answers")
+    });
+    if !pull {
+        for doc in &docs {
+            if let Some((_, version)) = &doc.open {
+                server.wait_for_diagnostics(&doc.uri, *version);
+            }
         }
     }
     server.drain(Duration::from_millis(500));
@@ -296,7 +398,16 @@ fn a_random_session_ends_with_the_diagnostics_of_check() {
         }
     }
     let expected = from_check(&tree.check_json());
-    let published = from_server(&server, &tree);
+    let published = match &pulled {
+        Some(report) => {
+            assert!(
+                server.diagnostics.is_empty(),
+                "a pulling client gets no pushed diagnostics"
+            );
+            from_pull(report, &tree)
+        }
+        None => from_server(&server, &tree),
+    };
     let missing: Vec<_> = expected.difference(&published).collect();
     let extra: Vec<_> = published.difference(&expected).collect();
     assert!(
@@ -343,9 +454,33 @@ fn from_check(report: &Value) -> BTreeSet<Comparable> {
 }
 
 fn from_server(server: &Server, tree: &TempTree) -> BTreeSet<Comparable> {
+    from_lists(server.diagnostics.iter(), tree)
+}
+
+/// The diagnostics of a `workspace/diagnostic` report (full reports, as no previous result
+/// ids were sent).
+fn from_pull(report: &Value, tree: &TempTree) -> BTreeSet<Comparable> {
+    let items = report["items"].as_array().expect("items");
+    let lists: Vec<(String, Vec<Value>)> = items
+        .iter()
+        .map(|item| {
+            assert_eq!(item["kind"], "full", "{item}");
+            (
+                item["uri"].as_str().unwrap_or_default().to_owned(),
+                item["items"].as_array().cloned().unwrap_or_default(),
+            )
+        })
+        .collect();
+    from_lists(lists.iter().map(|(uri, list)| (uri, list)), tree)
+}
+
+fn from_lists<'a>(
+    lists: impl Iterator<Item = (&'a String, &'a Vec<Value>)>,
+    tree: &TempTree,
+) -> BTreeSet<Comparable> {
     let prefix = format!("{}/", file_uri(&tree.path()));
     let mut all = BTreeSet::new();
-    for (uri, diagnostics) in &server.diagnostics {
+    for (uri, diagnostics) in lists {
         let file = uri.strip_prefix(&prefix).unwrap_or(uri).to_owned();
         for d in diagnostics {
             let severity = match d["severity"].as_u64() {

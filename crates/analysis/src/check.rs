@@ -7,8 +7,8 @@ use std::collections::{HashMap, HashSet};
 use higraph_syntax::{TextRange, TextSize};
 
 use crate::{
-    Code, Diagnostic, DiagnosticTag, FileContents, FileId, Fix, LineIndex, RelatedInfo, Severity,
-    TextEdit,
+    Code, Diagnostic, DiagnosticTag, FileContents, FileId, Fix, LineIndex, PendingRename,
+    RelatedInfo, Severity, TextEdit,
     db::{self, File, ItemLoc, Workspace},
     diag::Diag,
     registry, sdf, suppress,
@@ -230,7 +230,7 @@ pub fn file_diagnostics(
         {
             continue;
         }
-        out.push(convert(db, ws, diag, severity, range, ids));
+        out.push(convert(db, diag, severity, range, ids));
     }
     out
 }
@@ -270,14 +270,13 @@ pub(crate) fn convert_extra(
         {
             continue;
         }
-        out.push((file, convert(db, ws, diag, severity, range, ids)));
+        out.push((file, convert(db, diag, severity, range, ids)));
     }
     out
 }
 
 fn convert(
     db: &dyn salsa::Database,
-    ws: Workspace,
     diag: &Diag,
     severity: Severity,
     range: TextRange,
@@ -289,10 +288,21 @@ fn convert(
     let mut fixes: Vec<Fix> = diag
         .fixes
         .iter()
-        .filter_map(|fix| {
-            let edits = match &fix.rename_to {
-                Some(new_name) => rename_edits(db, ws, fix, new_name, ids)?,
-                None => fix
+        .map(|fix| match (&fix.rename_to, fix.edits.first()) {
+            // The rename engine runs when the edit is wanted (`resolve_fixes`).
+            (Some(new_name), Some((declaration, _))) => Fix {
+                title: fix.title.clone(),
+                edits: Vec::new(),
+                preferred: fix.preferred,
+                rename: Some(PendingRename {
+                    file: file_id(&declaration.file),
+                    offset: db::absolute_range(db, declaration).start(),
+                    new_name: new_name.clone(),
+                }),
+            },
+            _ => Fix {
+                title: fix.title.clone(),
+                edits: fix
                     .edits
                     .iter()
                     .map(|(loc, new_text)| TextEdit {
@@ -301,12 +311,9 @@ fn convert(
                         new_text: new_text.clone(),
                     })
                     .collect(),
-            };
-            Some(Fix {
-                title: fix.title.clone(),
-                edits,
                 preferred: fix.preferred,
-            })
+                rename: None,
+            },
         })
         .collect();
     mark_preferred(&mut fixes);
@@ -343,22 +350,40 @@ fn mark_preferred(fixes: &mut [Fix]) {
     }
 }
 
-/// The edits of a rename fix ([`crate::diag::DiagFix::rename_to`]): the workspace rename of
-/// the name at the fix's first edit; `None` if the rename engine refuses it.
-fn rename_edits(
+/// Carries out the pending renames of `fixes` ([`Fix::rename`]) through the workspace rename
+/// engine; a fix whose rename the engine refuses is dropped, and the preferred fix is marked
+/// again among those left.
+pub(crate) fn resolve_fixes(db: &dyn salsa::Database, ws: Workspace, fixes: &mut Vec<Fix>) {
+    if fixes.iter().all(|fix| fix.rename.is_none()) {
+        return;
+    }
+    fixes.retain_mut(|fix| match fix.rename.take() {
+        Some(pending) => match rename_edits(db, ws, &pending) {
+            Some(edits) => {
+                fix.edits = edits;
+                true
+            }
+            None => false,
+        },
+        None => true,
+    });
+    mark_preferred(fixes);
+}
+
+/// The edits of a pending rename: the workspace rename of the name at its offset; `None` if
+/// the rename engine refuses it.
+pub(crate) fn rename_edits(
     db: &dyn salsa::Database,
     ws: Workspace,
-    fix: &crate::diag::DiagFix,
-    new_name: &str,
-    ids: &HashMap<File, FileId>,
+    pending: &PendingRename,
 ) -> Option<Vec<TextEdit>> {
-    let (declaration, _) = fix.edits.first()?;
-    let offset = db::absolute_range(db, declaration).start();
-    let change = crate::ide::rename::rename(db, ws, declaration.file, offset, new_name).ok()?;
-    let by_path = &output_file_table(db, ws).source_paths;
+    let table = output_file_table(db, ws);
+    let file = *table.files.get(pending.file.0 as usize)?;
+    let change =
+        crate::ide::rename::rename(db, ws, file, pending.offset, &pending.new_name).ok()?;
     let mut edits = Vec::new();
     for (path, file_edits) in &change.files {
-        let file = ids.get(by_path.get(path)?)?;
+        let file = table.ids.get(table.source_paths.get(path)?)?;
         edits.extend(file_edits.iter().map(|edit| TextEdit {
             file: *file,
             range: edit.range,

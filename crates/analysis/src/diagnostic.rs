@@ -8,7 +8,7 @@
 
 use std::fmt;
 
-use higraph_syntax::{SyntaxError, TextRange};
+use higraph_syntax::{SyntaxError, TextRange, TextSize};
 
 /// Identifies one file of the workspace. What a file id stands for (a path, an editor
 /// buffer) is decided by the owner of the file set.
@@ -121,6 +121,21 @@ pub struct Fix {
     /// The most likely fix of its diagnostic (at most one is): the only fix, or else a
     /// replacement with the closest existing name. Editors apply it on "auto fix".
     pub preferred: bool,
+    /// A rename through the workspace rename engine that is not carried out yet: `edits` is
+    /// empty until [`crate::Analysis::resolve_fixes`] (or a code action's resolve) asks the
+    /// engine, which may refuse the name (the fix is then dropped). Diagnostics are computed
+    /// after every keystroke; a rename walks every reference in the workspace, so it waits
+    /// until an edit is wanted.
+    pub rename: Option<PendingRename>,
+}
+
+/// The rename of a fix that has not been carried out ([`Fix::rename`]): the declared name at
+/// `offset` of `file` becomes `new_name` everywhere.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PendingRename {
+    pub file: FileId,
+    pub offset: TextSize,
+    pub new_name: String,
 }
 
 /// One diagnostic, independent of any editor protocol. The file it belongs to is known to
@@ -194,6 +209,7 @@ impl Diagnostic {
                         })
                         .collect(),
                     preferred: error.fixes.len() == 1,
+                    rename: None,
                 })
                 .collect(),
             tags: Vec::new(),
@@ -204,7 +220,6 @@ impl Diagnostic {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use higraph_syntax::TextSize;
 
     #[test]
     fn syntax_errors_become_error_diagnostics() {

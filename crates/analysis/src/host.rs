@@ -244,18 +244,31 @@ impl Analysis {
         salsa::Database::cancellation_token(&self.db)
     }
 
-    /// The diagnostics of every file.
+    /// The diagnostics of every file, with every fix carried out (the pending renames of
+    /// [`crate::Fix::rename`] resolved, those the rename engine refuses dropped): what `check`
+    /// prints.
     pub fn diagnostics(&self) -> Vec<(FileId, Vec<Diagnostic>)> {
-        match self.workspace {
-            Some(ws) => check::all_diagnostics(&self.db, ws),
-            None => Vec::new(),
+        let Some(ws) = self.workspace else {
+            return Vec::new();
+        };
+        let mut all = check::all_diagnostics(&self.db, ws);
+        for diagnostic in all.iter_mut().flat_map(|(_, diagnostics)| diagnostics) {
+            check::resolve_fixes(&self.db, ws, &mut diagnostic.fixes);
         }
+        all
     }
 
-    /// Like [`Analysis::diagnostics`], but returns `Err` instead of unwinding when the host
-    /// changed the database meanwhile.
+    /// The diagnostics of every file as they are cached, their rename fixes pending
+    /// ([`crate::Fix::rename`]: no edits yet), and `Err` instead of unwinding when the host
+    /// changed the database meanwhile. For the language server, which publishes no fixes.
     pub fn diagnostics_cancellable(&self) -> Cancellable<Vec<(FileId, Vec<Diagnostic>)>> {
-        self.with_db(|_, _| self.diagnostics())
+        self.with_db(check::all_diagnostics)
+    }
+
+    /// `fixes` with their pending renames carried out ([`crate::Fix::rename`]); a fix whose
+    /// rename is refused is dropped.
+    pub fn resolve_fixes(&self, fixes: &mut Vec<crate::Fix>) -> Cancellable<()> {
+        self.with_db(|db, ws| check::resolve_fixes(db, ws, fixes))
     }
 
     /// Runs `f` on the database and workspace, turning salsa's cancellation into `Err`.

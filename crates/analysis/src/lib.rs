@@ -37,7 +37,7 @@ pub mod sdf;
 pub mod suppress;
 
 pub use diagnostic::{
-    Code, Diagnostic, DiagnosticTag, FileId, Fix, RelatedInfo, Severity, TextEdit,
+    Code, Diagnostic, DiagnosticTag, FileId, Fix, PendingRename, RelatedInfo, Severity, TextEdit,
 };
 pub use file_contents::FileContents;
 pub use host::{Analysis, AnalysisHost, Cancellable, OutputFile, WorkspaceData};

@@ -21,13 +21,13 @@
 //!    run for the first time in this revision).
 //! 3. **completion, repeated**: the same request again (everything is cached).
 //! 4. **signature help after the edit**: a `signatureHelp` request just inside the parameter
-//!    list of the first `CALL … (` after the edited operation. `max-graph` declares no block
-//!    interfaces (its CALLs are unchecked), so the answer is `null`: the figure is the cost of
-//!    finding the context and looking the callee's interface up in the current revision.
+//!    list of the first `CALL … (` after the edited operation. `max-graph` itself declares no
+//!    block interfaces (its CALLs are unchecked), so the benchmark adds a second file,
+//!    [`BLOCKS`], declaring the interfaces of the three blocks it calls (with the types its
+//!    actuals have: the workspace stays clean). The answer is checked to be a signature.
 //! 5. **code lens after the edit**: `textDocument/codeLens` (the lenses, unresolved), then
-//!    `codeLens/resolve` of the first state's incoming-transitions lens (a references search
-//!    over the graph, whose uses the edit made stale; nothing before it in the round needs
-//!    them).
+//!    `codeLens/resolve` of the first state's incoming-transitions lens (its transitions in
+//!    the edited graph; nothing before it in the round needs them).
 //!
 //! Then, with a second server started as a client that pulls diagnostics (LSP 3.17
 //! `textDocument.diagnostic`, so nothing is pushed), the same edits:
@@ -52,6 +52,13 @@ use higraph_syntax::Edit;
 use serde_json::{Value, json};
 
 const FILE: &str = "max_graph.higraph";
+/// The block interfaces of max-graph's CALLs, written next to it (see item 4 above).
+const BLOCKS_FILE: &str = "blocks.higraph";
+const BLOCKS: &str = "// The interfaces of the blocks max-graph calls (latency benchmark).
+block FC 10 < in < Menge : INT; Freigabe : BOOL; > out < Fertig : BOOL; > >
+block FB 20 < in < Sollwert : REAL; Istwert : REAL; Handbetrieb : BOOL; > out < Stellwert : REAL; > >
+block FC 12 < in < Text : STRING; Nummer : INT; > >
+";
 const WARM_UP: usize = 5;
 const TIMEOUT: Duration = Duration::from_secs(30);
 
@@ -155,6 +162,8 @@ fn run(options: &Options) -> Result<(), String> {
     let root = std::fs::canonicalize(folder.path()).map_err(|e| e.to_string())?;
     let path = root.join(FILE);
     std::fs::write(&path, &text).map_err(|e| format!("cannot write the workload: {e}"))?;
+    std::fs::write(root.join(BLOCKS_FILE), BLOCKS)
+        .map_err(|e| format!("cannot write the block interfaces: {e}"))?;
     println!(
         "max-graph (seed {}): {:.2} MB, {} lines; editing line {} column {}; {} iterations \
          after {WARM_UP} warm-up rounds; {} CPUs",
@@ -210,6 +219,11 @@ fn run(options: &Options) -> Result<(), String> {
         "  signature help in a CALL after the edit",
         &analysis.signature,
     );
+    row("  code lenses after the edit", &analysis.lens);
+    row(
+        "  resolve (state lens) after the edit",
+        &analysis.lens_resolve,
+    );
     Ok(())
 }
 
@@ -219,7 +233,6 @@ struct Samples {
     completion_after_edit: Vec<Duration>,
     completion_repeated: Vec<Duration>,
     signature: Vec<Duration>,
-    /// Over stdio only.
     lens: Vec<Duration>,
     lens_resolve: Vec<Duration>,
 }
@@ -310,8 +323,11 @@ fn over_stdio(
             "position": { "line": line, "character": character },
         });
         let start = Instant::now();
-        server.request("textDocument/signatureHelp", signature)?;
+        let help = server.request("textDocument/signatureHelp", signature)?;
         let signature = start.elapsed();
+        if help["signatures"].as_array().is_none_or(Vec::is_empty) {
+            return Err(format!("signature help answered no signature: {help}"));
+        }
         let start = Instant::now();
         let lenses = server.request(
             "textDocument/codeLens",
@@ -428,7 +444,13 @@ fn pull_over_stdio(
 fn in_process(options: &Options, text: &str, target: &Target) -> Result<Samples, String> {
     let mut host = AnalysisHost::new();
     host.load(WorkspaceData {
-        files: vec![(FILE.to_owned(), FileContents::Text(text.to_owned()))],
+        files: vec![
+            (FILE.to_owned(), FileContents::Text(text.to_owned())),
+            (
+                BLOCKS_FILE.to_owned(),
+                FileContents::Text(BLOCKS.to_owned()),
+            ),
+        ],
         ..WorkspaceData::default()
     });
     host.analysis().diagnostics();
@@ -468,9 +490,36 @@ fn in_process(options: &Options, text: &str, target: &Target) -> Result<Samples,
             offset: TextSize::from(target.call.2),
         };
         let start = Instant::now();
-        let _ = host.analysis().signature_help(&call);
+        let help = host.analysis().signature_help(&call);
         let signature = start.elapsed();
+        if !matches!(help, Ok(Some(_))) {
+            return Err("no signature help in process".into());
+        }
+        let start = Instant::now();
+        let lenses = host
+            .analysis()
+            .code_lenses(FILE)
+            .map_err(|_| "code lenses cancelled")?;
+        let lens = start.elapsed();
+        let state_lens = lenses
+            .iter()
+            .find(|l| l.kind == higraph_analysis::ide::LensKind::StateIncoming)
+            .ok_or("no state lens in process")?;
+        let start = Instant::now();
+        let resolved = host.analysis().resolve_code_lens(
+            &FilePosition {
+                path: FILE.to_owned(),
+                offset: state_lens.name,
+            },
+            state_lens.kind,
+        );
+        let lens_resolve = start.elapsed();
+        if !matches!(resolved, Ok(Some(_))) {
+            return Err("the state lens did not resolve in process".into());
+        }
         if round >= WARM_UP {
+            samples.lens.push(lens);
+            samples.lens_resolve.push(lens_resolve);
             samples.signature.push(signature);
             samples.edit.push(elapsed);
             samples.completion_after_edit.push(after_edit);

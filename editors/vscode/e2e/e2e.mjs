@@ -155,6 +155,25 @@ try {
   }, { tries: 30 });
   check(!!peek, `clicking a count lens opens the references peek (${(peek ?? []).join(' ').replace(/\s+/g, ' ') || 'no peek'})`);
   await page.keyboard.press('Escape');
+  // (5b) a call hierarchy: on the graph Schalter (line 6), "Calls: Show Call Hierarchy" lists
+  // its callers (prepareCallHierarchy, callHierarchy/incomingCalls): the instance Flur
+  await page.keyboard.press('Control+G');
+  const line = page.locator('.quick-input-widget input');
+  await line.waitFor({ state: 'visible', timeout: 10_000 }).catch(() => {});
+  await line.fill(':6:8').catch(() => {});
+  await page.keyboard.press('Enter');
+  await page.waitForTimeout(500);
+  await pick('F1', '>Calls: Show Call Hierarchy', 'Show Call Hierarchy').catch(() => {});
+  const callers = await poll(async () => {
+    const t = await page.evaluate(() =>
+      [...document.querySelectorAll('.sidebar [role="treeitem"]')].map((e) => `${e.textContent ?? ''} ${e.getAttribute('aria-label') ?? ''}`),
+    );
+    return t.some((x) => /\bFlur\b/.test(x)) ? t.filter((x) => /Schalter|Flur/.test(x)) : null;
+  }, { tries: 40 });
+  const sidebar = await page.evaluate(() => document.querySelector('.sidebar')?.textContent ?? '').catch(() => '');
+  const paneTitles = `${(await page.locator('.pane-header').allInnerTexts().catch(() => [])).join(' | ')}; sidebar: ${sidebar.slice(0, 300)}`;
+  check(!!callers, `"Calls: Show Call Hierarchy" on graph Schalter lists its caller Flur (${(callers ?? []).join(' | ').replace(/\s+/g, ' ') || `no such row; panes: ${paneTitles}`})`);
+  await shot('5b-call-hierarchy');
   await open('tests.higraph');
   const lenses = await poll(async () => {
     const t = await page.locator('.codelens-decoration').allInnerTexts();

@@ -8,8 +8,9 @@
 # the same ahead of time). Uses the server $HIGRAPH_LSP, else builds the debug one (the build
 # `cargo test` makes; the examples are small); builds the .vsix, starts code-server on a copy of examples/ plus a seeded error file and
 # (in a second folder) the test workspace of tests/data/testing, and checks highlighting, diagnostics (squiggle +
-# Problems panel), completion, the graph preview, a count lens (codeLens/resolve) and the test
-# code lens, running a test from
+# Problems panel), completion, the graph preview, a count lens (codeLens/resolve), a call
+# hierarchy ("Calls: Show Call Hierarchy" on a graph lists its caller) and the test code lens,
+# running a test from
 # the Testing view, and "HiGraph: Build" and the code action "Build this group" writing the
 # group's STEP 7 source.
 # Screenshots go to target/e2e-screenshots/. Exits non-zero on any failed check.

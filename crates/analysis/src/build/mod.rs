@@ -252,9 +252,9 @@ fn run(
             if diagnostic.severity == Severity::Error {
                 refused.insert(*file);
             }
-            result
-                .checked
-                .push((file.path(db).clone(), diagnostic.clone()));
+            let mut diagnostic = diagnostic.clone();
+            check::resolve_fixes(db, ws, &mut diagnostic.fixes);
+            result.checked.push((file.path(db).clone(), diagnostic));
         }
     }
 

@@ -35,14 +35,31 @@ pub struct CodeAction {
     pub edit: SourceChange,
     /// The most likely fix of its diagnostic ([`crate::Fix::preferred`]).
     pub is_preferred: bool,
+    /// The edit is left out (empty) until [`Analysis::resolve_code_action`] computes it: the
+    /// number of the fix among its diagnostic's fixes ([`Analysis::code_actions_with`]).
+    pub deferred: Option<usize>,
 }
 
 impl Analysis {
     /// The quick fixes of the diagnostics of `path` whose range intersects `range` (touching
-    /// counts, so a cursor at either end of a diagnostic gets its fixes), in diagnostic order.
-    /// `path` may be any file diagnostics are reported on (`.higraph`, an imported table,
-    /// `higraph.toml`).
+    /// counts, so a cursor at either end of a diagnostic gets its fixes), in diagnostic order,
+    /// each with its edit. `path` may be any file diagnostics are reported on (`.higraph`, an
+    /// imported table, `higraph.toml`).
     pub fn code_actions(&self, path: &str, range: TextRange) -> Cancellable<Vec<CodeAction>> {
+        self.code_actions_with(path, range, false)
+    }
+
+    /// [`Analysis::code_actions`]; with `defer`, a fix whose edit needs the workspace rename
+    /// engine (HG1101/HG1102, [`crate::Fix::rename`]) comes without its edit, marked
+    /// [`CodeAction::deferred`], for [`Analysis::resolve_code_action`] to complete when the
+    /// user picks it. Without `defer` such a fix is carried out now, and left out when the
+    /// engine refuses the name.
+    pub fn code_actions_with(
+        &self,
+        path: &str,
+        range: TextRange,
+        defer: bool,
+    ) -> Cancellable<Vec<CodeAction>> {
         self.with_db(|db, ws| {
             let files = check::output_files(db, ws);
             let Some(file) = files.iter().copied().find(|f| f.path(db) == path) else {
@@ -56,17 +73,60 @@ impl Analysis {
                     .filter(|d| d.range.intersect(range).is_some())
             };
             in_range()
-                .flat_map(|d| actions_of(d, &paths))
+                .flat_map(|d| {
+                    if defer {
+                        actions_of(d, &paths)
+                    } else {
+                        let mut resolved = d.clone();
+                        check::resolve_fixes(db, ws, &mut resolved.fixes);
+                        actions_of(&resolved, &paths)
+                    }
+                })
                 .chain(
                     in_range()
                         .flat_map(|d| build_fix_actions(db, ws, file, d, diagnostics, &paths)),
                 )
                 .map(|mut action| {
                     // A formatted file stays formatted (`relayout`).
-                    action.edit = relayout::keep_formatted(db, ws, action.edit);
+                    if action.deferred.is_none() {
+                        action.edit = relayout::keep_formatted(db, ws, action.edit);
+                    }
                     action
                 })
                 .collect()
+        })
+    }
+
+    /// Completes a deferred action of [`Analysis::code_actions_with`]: fix number `fix` of
+    /// the diagnostic of `path` with code `code` at `diagnostic_range`, with its edit. `None`
+    /// when there is no such diagnostic or fix any more, or the rename engine refuses the
+    /// name.
+    pub fn resolve_code_action(
+        &self,
+        path: &str,
+        code: &str,
+        diagnostic_range: TextRange,
+        fix: usize,
+    ) -> Cancellable<Option<CodeAction>> {
+        self.with_db(|db, ws| {
+            let files = check::output_files(db, ws);
+            let file = files.iter().copied().find(|f| f.path(db) == path)?;
+            let paths: Vec<String> = files.iter().map(|f| f.path(db).clone()).collect();
+            let diagnostic = check::cached_file_diagnostics(db, ws, file)
+                .iter()
+                .find(|d| d.code.as_str() == code && d.range == diagnostic_range)?;
+            let mut wanted = diagnostic.fixes.get(fix)?.clone();
+            if let Some(pending) = wanted.rename.take() {
+                wanted.edits = check::rename_edits(db, ws, &pending)?;
+            }
+            let carrier = Diagnostic {
+                fixes: vec![wanted],
+                ..diagnostic.clone()
+            };
+            let mut action = actions_of(&carrier, &paths).pop()?;
+            action.is_preferred = diagnostic.fixes.get(fix).is_some_and(|f| f.preferred);
+            action.edit = relayout::keep_formatted(db, ws, action.edit);
+            Some(action)
         })
     }
 
@@ -155,7 +215,8 @@ fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
     diagnostic
         .fixes
         .iter()
-        .map(|fix| {
+        .enumerate()
+        .map(|(number, fix)| {
             // Group the edits by file; a stable sort keeps insertions at one offset in the
             // order the fix gives them.
             let mut by_file: Vec<(String, Vec<Edit>)> = Vec::new();
@@ -183,6 +244,7 @@ fn actions_of(diagnostic: &Diagnostic, paths: &[String]) -> Vec<CodeAction> {
                 diagnostic: diagnostic.clone(),
                 edit: SourceChange { files: by_file },
                 is_preferred: fix.preferred,
+                deferred: fix.rename.is_some().then_some(number),
             }
         })
         .collect()

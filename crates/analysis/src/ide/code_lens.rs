@@ -108,129 +108,179 @@ impl Analysis {
 
     /// Counts a lens of `kind` whose name is at `name`. `None` when the name there is no
     /// longer something of that kind (the file changed since the lens was listed).
+    ///
+    /// Cheap right after an edit: the lens's name is looked up as a declaration (no use index
+    /// of its item is computed), a state's transitions come from the per-chunk endpoint
+    /// lists of its graph ([`chunk_endpoints`]: after a keystroke only the edited chunk's
+    /// list is computed again), a group's from its syntax; only graph and symbol lenses run
+    /// the references search, over the items that can use them.
     pub fn resolve_code_lens(
         &self,
         name: &FilePosition,
         kind: LensKind,
     ) -> Cancellable<Option<ResolvedLens>> {
-        let at = self.with_db(|db, ws| {
+        self.with_db(|db, ws| {
             let file = self.file(&name.path)?;
-            let at = defs::definition_at(db, ws, file, name.offset)?;
-            let fits = matches!(
-                (&at.definition, kind),
+            let at = defs::declaration_at(db, ws, file, name.offset)?;
+            let ranges: Vec<FileRange> = match (&at.definition, kind) {
                 (
-                    defs::Definition::Graph(_),
-                    LensKind::GraphInstances | LensKind::GraphReferences
-                ) | (
-                    defs::Definition::Group(_),
-                    LensKind::GroupInstances | LensKind::GroupMessages
-                ) | (
-                    defs::Definition::State { .. },
-                    LensKind::StateIncoming | LensKind::StateOutgoing
-                ) | (defs::Definition::Symbol(_), LensKind::SymbolUses)
-            );
-            fits.then_some(at)
-        })?;
-        if at.is_none() {
-            return Ok(None);
-        }
-        let locations = match kind {
-            LensKind::GraphReferences | LensKind::SymbolUses => self.references(name, false)?,
-            LensKind::GraphInstances => {
-                self.references_where(name, |node| node.kind() == SyntaxKind::INSTANCE)?
-            }
-            LensKind::StateIncoming => {
-                self.references_where(name, |node| endpoint_side(node) == Some(Side::Target))?
-            }
-            LensKind::StateOutgoing => {
-                self.references_where(name, |node| endpoint_side(node) == Some(Side::Source))?
-            }
-            LensKind::GroupInstances | LensKind::GroupMessages => self.with_db(|db, _| {
-                let Some(file) = self.file(&name.path) else {
-                    return Vec::new();
-                };
-                let root = db::parse(db, file).syntax_node();
-                let Some(group) = defs::token_at(&root, name.offset)
-                    .and_then(|t| t.parent_ancestors().find_map(ast::Group::cast))
-                else {
-                    return Vec::new();
-                };
-                let ranges: Vec<TextRange> = if kind == LensKind::GroupInstances {
-                    group
-                        .instances()
-                        .filter_map(|i| i.name())
-                        .map(|n| n.syntax().text_range())
-                        .collect()
-                } else {
-                    group
-                        .instances()
-                        .flat_map(|i| i.actuals())
-                        .filter_map(|a| match a.value() {
-                            Some(ast::Operand::MessageTarget(target)) => Some(TextRange::new(
-                                a.syntax().text_range().start(),
-                                target.syntax().text_range().end(),
-                            )),
-                            _ => None,
+                    defs::Definition::Graph(_) | defs::Definition::Symbol(_),
+                    LensKind::GraphReferences | LensKind::SymbolUses,
+                ) => references(db, ws, &at.definition, |_| true),
+                (defs::Definition::Graph(_), LensKind::GraphInstances) => {
+                    references(db, ws, &at.definition, |node| {
+                        node.kind() == SyntaxKind::INSTANCE
+                    })
+                }
+                (
+                    defs::Definition::State { graph, number },
+                    LensKind::StateIncoming | LensKind::StateOutgoing,
+                ) => {
+                    let side = if kind == LensKind::StateIncoming {
+                        Side::Target
+                    } else {
+                        Side::Source
+                    };
+                    let start = defs::item_start(db, *graph);
+                    let layout = db::graph_layout(db, defs::item_loc(db, *graph));
+                    layout
+                        .chunks
+                        .iter()
+                        .zip(&layout.offsets)
+                        .flat_map(|(&chunk, &offset)| {
+                            chunk_endpoints(db, chunk)
+                                .iter()
+                                .filter(|e| e.number == *number && e.side == side)
+                                .map(move |e| FileRange {
+                                    path: name.path.clone(),
+                                    range: e.range + offset + start,
+                                })
                         })
                         .collect()
-                };
-                ranges
-                    .into_iter()
-                    .map(|range| FileRange {
-                        path: name.path.clone(),
-                        range,
-                    })
-                    .collect()
-            })?,
-        };
-        Ok(Some(ResolvedLens {
-            title: kind.title(locations.len()),
-            locations,
-        }))
-    }
-
-    /// The references of the name at `name` (without the declaration) whose syntax satisfies
-    /// `keep`, which sees each ancestor of the reference's token in turn.
-    fn references_where(
-        &self,
-        name: &FilePosition,
-        keep: impl Fn(&SyntaxNode) -> bool,
-    ) -> Cancellable<Vec<FileRange>> {
-        let references = self.references(name, false)?;
-        self.with_db(|db, _| {
-            references
-                .into_iter()
-                .filter(|r| {
-                    let Some(file) = self.file(&r.path) else {
-                        return false;
-                    };
+                }
+                (
+                    defs::Definition::Group(_),
+                    LensKind::GroupInstances | LensKind::GroupMessages,
+                ) => {
                     let root = db::parse(db, file).syntax_node();
-                    defs::token_at(&root, r.range.start())
-                        .is_some_and(|t| t.parent_ancestors().any(|node| keep(&node)))
-                })
-                .collect()
+                    let group = defs::token_at(&root, name.offset)
+                        .and_then(|t| t.parent_ancestors().find_map(ast::Group::cast))?;
+                    let ranges: Vec<TextRange> = if kind == LensKind::GroupInstances {
+                        group
+                            .instances()
+                            .filter_map(|i| i.name())
+                            .map(|n| n.syntax().text_range())
+                            .collect()
+                    } else {
+                        group
+                            .instances()
+                            .flat_map(|i| i.actuals())
+                            .filter_map(|a| match a.value() {
+                                Some(ast::Operand::MessageTarget(target)) => Some(TextRange::new(
+                                    a.syntax().text_range().start(),
+                                    target.syntax().text_range().end(),
+                                )),
+                                _ => None,
+                            })
+                            .collect()
+                    };
+                    ranges
+                        .into_iter()
+                        .map(|range| FileRange {
+                            path: name.path.clone(),
+                            range,
+                        })
+                        .collect()
+                }
+                _ => return None,
+            };
+            Some(ResolvedLens {
+                title: kind.title(ranges.len()),
+                locations: ranges,
+            })
         })
     }
 }
 
-/// Which end of a transition a node is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The references of `definition` (without the declaration, each place once, in workspace
+/// order, as find-references answers them) whose syntax satisfies `keep`, which sees each
+/// ancestor of the reference's token in turn.
+fn references(
+    db: &dyn salsa::Database,
+    ws: db::Workspace,
+    definition: &defs::Definition,
+    keep: impl Fn(&SyntaxNode) -> bool,
+) -> Vec<FileRange> {
+    let mut out: Vec<FileRange> = Vec::new();
+    for reference in defs::references(db, ws, definition) {
+        if reference.kind == defs::ReferenceKind::Declaration {
+            continue;
+        }
+        let root = db::parse(db, reference.file).syntax_node();
+        let kept = defs::token_at(&root, reference.range.start())
+            .is_some_and(|t| t.parent_ancestors().any(|node| keep(&node)));
+        let range = FileRange {
+            path: reference.file.path(db).clone(),
+            range: reference.range,
+        };
+        if kept && !out.contains(&range) {
+            out.push(range);
+        }
+    }
+    out
+}
+
+/// Which end of a transition an endpoint is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum Side {
     Source,
     Target,
 }
 
-/// The side of the transition whose endpoint `node` is (`None` for any other node).
-fn endpoint_side(node: &SyntaxNode) -> Option<Side> {
-    let endpoint = ast::Endpoint::cast(node.clone())?;
-    let trans = ast::Trans::cast(node.parent()?)?;
-    if trans.source().as_ref() == Some(&endpoint) {
-        Some(Side::Source)
-    } else if trans.target().as_ref() == Some(&endpoint) {
-        Some(Side::Target)
-    } else {
-        None
+/// An endpoint naming a state (`trans 1->2`: `1` and `2`), as the use index records it
+/// (`defs.rs`): the number, which end, and the number's range relative to its chunk.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub(crate) struct StateEndpoint {
+    number: u32,
+    side: Side,
+    range: TextRange,
+}
+
+/// The state endpoints of a chunk's transitions, in text order. Per chunk, so that after a
+/// keystroke in a graph of thousands of members only the edited chunk is read again.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn chunk_endpoints<'db>(
+    db: &'db dyn salsa::Database,
+    chunk: db::Chunk<'db>,
+) -> Vec<StateEndpoint> {
+    let mut out = Vec::new();
+    for (green, offset) in chunk.members(db) {
+        let Some(trans) = ast::Trans::cast(green.root()) else {
+            continue;
+        };
+        for (endpoint, side) in [
+            (trans.source(), Side::Source),
+            (trans.target(), Side::Target),
+        ] {
+            let Some(endpoint) = endpoint else {
+                continue;
+            };
+            if endpoint.kind() != Some(ast::EndpointKind::State) {
+                continue;
+            }
+            let Some(token) = endpoint.token() else {
+                continue;
+            };
+            if let Ok(number) = token.text().parse::<u32>() {
+                out.push(StateEndpoint {
+                    number,
+                    side,
+                    range: token.text_range() + *offset,
+                });
+            }
+        }
     }
+    out
 }
 
 /// The unresolved lenses of a file.

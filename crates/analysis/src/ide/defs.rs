@@ -1297,6 +1297,21 @@ fn definition_of(db: &dyn salsa::Database, item: ItemId, target: &UseTarget) -> 
     })
 }
 
+/// The definition declared by the name at `offset` of `file` (a declaration's name or a
+/// state's number), without looking at uses: no item's use index is computed, so this stays
+/// cheap right after an edit of a large graph (the code lenses ask it).
+pub(crate) fn declaration_at(
+    db: &dyn salsa::Database,
+    ws: Workspace,
+    file: File,
+    offset: TextSize,
+) -> Option<NameAt> {
+    let root = db::parse(db, file).syntax_node();
+    let token = token_at(&root, offset)?;
+    let (item, _) = item_of(db, file, &token)?;
+    declared_at(db, ws, item, &token)
+}
+
 /// The definition whose declared name is `token` (a NAME of a declaration or a state
 /// number).
 fn declared_at(

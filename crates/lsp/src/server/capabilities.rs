@@ -32,6 +32,9 @@ pub(crate) struct ClientSupport {
     pub pull_diagnostics: bool,
     /// The client accepts `workspace/diagnostic/refresh`.
     pub diagnostic_refresh: bool,
+    /// The client resolves a code action's `edit` (`codeAction.resolveSupport`): the fixes
+    /// that need the rename engine come without their edit, computed in `codeAction/resolve`.
+    pub code_action_resolve: bool,
 }
 
 impl Default for ClientSupport {
@@ -47,6 +50,7 @@ impl Default for ClientSupport {
             code_description: false,
             pull_diagnostics: false,
             diagnostic_refresh: false,
+            code_action_resolve: false,
         }
     }
 }
@@ -103,6 +107,10 @@ impl ClientSupport {
                 .and_then(|workspace| workspace.diagnostics.as_ref())
                 .and_then(|diagnostic| diagnostic.refresh_support)
                 .unwrap_or(false),
+            code_action_resolve: text_document
+                .and_then(|text| text.code_action.as_ref())
+                .and_then(|action| action.resolve_support.as_ref())
+                .is_some_and(|resolve| resolve.properties.iter().any(|p| p == "edit")),
         }
     }
 }
@@ -172,6 +180,9 @@ pub(crate) fn server_capabilities(client: &ClientSupport) -> lsp::ServerCapabili
         code_action_provider: Some(lsp::CodeActionProviderCapability::Options(
             lsp::CodeActionOptions {
                 code_action_kinds: Some(vec![lsp::CodeActionKind::QUICKFIX]),
+                // Rename fixes (HG1101/HG1102) get their edit in `codeAction/resolve` when the
+                // client can ask for it.
+                resolve_provider: Some(client.code_action_resolve),
                 ..lsp::CodeActionOptions::default()
             },
         )),

@@ -281,17 +281,18 @@ pub(crate) fn completion_item(
 pub(crate) fn code_action(
     action: &CodeAction,
     diagnostics: Vec<lsp::Diagnostic>,
-    edit: lsp::WorkspaceEdit,
+    edit: Option<lsp::WorkspaceEdit>,
+    data: Option<serde_json::Value>,
 ) -> lsp::CodeAction {
     lsp::CodeAction {
         title: action.title.clone(),
         kind: Some(lsp::CodeActionKind::QUICKFIX),
         diagnostics: Some(diagnostics),
-        edit: Some(edit),
+        edit,
         command: None,
         is_preferred: action.is_preferred.then_some(true),
         disabled: None,
-        data: None,
+        data,
     }
 }
 

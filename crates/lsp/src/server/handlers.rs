@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use higraph_analysis::ide::{CallItem, FilePosition, LinkTarget, SourceChange};
-use higraph_analysis::{LineIndex, TextRange};
+use higraph_analysis::{LineIndex, TextRange, TextSize};
 use tower_lsp_server::ls_types as lsp;
 
 use super::convert;
@@ -481,7 +481,10 @@ pub(crate) fn code_action(
         }
     }
     let range = convert::text_range(&index, params.range, snapshot.encoding);
-    let actions = snapshot.analysis.code_actions(&path, range)?;
+    let actions =
+        snapshot
+            .analysis
+            .code_actions_with(&path, range, snapshot.support.code_action_resolve)?;
     let mut response = Vec::new();
     for action in actions {
         let diagnostic_range = action
@@ -508,17 +511,84 @@ pub(crate) fn code_action(
                 |file, range| location(snapshot, &files.get(file.0 as usize)?.path, range),
             ));
         }
-        let edit = workspace_edit(snapshot, &action.edit)?;
+        let (edit, data) = match (action.deferred, &action.code, action.diagnostic_range) {
+            // The client asks `codeAction/resolve` for the edit when the user picks it.
+            (Some(fix), Some(code), Some(range)) => {
+                let data = ActionData {
+                    uri: params.text_document.uri.clone(),
+                    generation: snapshot.generation(),
+                    code: code.clone(),
+                    range: convert::range(&index, range, snapshot.encoding),
+                    fix,
+                };
+                (None, serde_json::to_value(data).ok())
+            }
+            _ => (Some(workspace_edit(snapshot, &action.edit)?), None),
+        };
         response.push(lsp::CodeActionOrCommand::CodeAction(convert::code_action(
             &action,
             diagnostics,
             edit,
+            data,
         )));
     }
     if params.context.only.is_none() {
         response.extend(super::build::code_actions(snapshot, &path, range)?);
     }
     Ok(Some(response))
+}
+
+/// The data of a code action whose edit `codeAction/resolve` computes: the document, the
+/// contents generation it was listed in, its diagnostic (code and range) and the number of
+/// the fix among the diagnostic's fixes.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct ActionData {
+    uri: lsp::Uri,
+    generation: u64,
+    code: String,
+    range: lsp::Range,
+    fix: usize,
+}
+
+/// `codeAction/resolve`: the edit of a quick fix listed without it (a rename fix, for a
+/// client that resolves edits). An action listed before a file changed answers
+/// `ContentModified` (the client lists the actions again); one that has its edit, or is no
+/// deferred fix, comes back unchanged.
+pub(crate) fn code_action_resolve(
+    snapshot: &Snapshot,
+    mut action: lsp::CodeAction,
+) -> HandlerResult<lsp::CodeAction> {
+    if action.edit.is_some() {
+        return Ok(action);
+    }
+    let Some(data) = action
+        .data
+        .clone()
+        .and_then(|data| serde_json::from_value::<ActionData>(data).ok())
+    else {
+        return Ok(action);
+    };
+    if data.generation != snapshot.generation() {
+        return Err(HandlerError::Cancelled);
+    }
+    let document = lsp::TextDocumentIdentifier::new(data.uri.clone());
+    let Some((path, index)) = file(snapshot, &document) else {
+        return Err(HandlerError::Failed(
+            "the code action's document is not a file of the workspace".into(),
+        ));
+    };
+    let range = convert::text_range(&index, data.range, snapshot.encoding);
+    let Some(resolved) = snapshot
+        .analysis
+        .resolve_code_action(&path, &data.code, range, data.fix)?
+    else {
+        return Err(HandlerError::Failed(format!(
+            "the fix '{}' cannot be applied: the name is refused or the diagnostic is gone",
+            action.title
+        )));
+    };
+    action.edit = Some(workspace_edit(snapshot, &resolved.edit)?);
+    Ok(action)
 }
 
 /// `textDocument/formatting`: the canonical layout, or why the file cannot be formatted.
@@ -708,8 +778,9 @@ pub(crate) fn outgoing_calls(
 pub(crate) const SHOW_REFERENCES: &str = "higraph.showReferences";
 
 /// `textDocument/codeLens`: the test lenses (`▶ Run test`, already resolved) and the count
-/// lenses, unresolved: their range and, as data, the document, the counted name's position
-/// and the kind of count.
+/// lenses, unresolved: their range (which ends with the counted name) and, as data, the
+/// document and the kind of count. A big graph has hundreds of lenses, and the answer's
+/// size is what it costs over stdio: the data holds nothing the range gives.
 pub(crate) fn code_lens(
     snapshot: &Snapshot,
     params: lsp::CodeLensParams,
@@ -719,14 +790,13 @@ pub(crate) fn code_lens(
     if let Some(path) = snapshot.path(&uri)
         && let Some(index) = snapshot.line_index(&path)
     {
+        let uri = serde_json::json!(uri);
         for lens in snapshot.analysis.code_lenses(&path)? {
-            let position = convert::position(&index, lens.name, snapshot.encoding);
             lenses.push(lsp::CodeLens {
                 range: convert::range(&index, lens.range, snapshot.encoding),
                 command: None,
                 data: Some(serde_json::json!({
                     "uri": uri,
-                    "position": position,
                     "kind": lens.kind.as_str(),
                 })),
             });
@@ -739,7 +809,6 @@ pub(crate) fn code_lens(
 #[derive(serde::Deserialize)]
 struct LensData {
     uri: lsp::Uri,
-    position: lsp::Position,
     kind: String,
 }
 
@@ -768,14 +837,21 @@ pub(crate) fn code_lens_resolve(
             data.kind
         )));
     };
-    let params = lsp::TextDocumentPositionParams {
-        text_document: lsp::TextDocumentIdentifier::new(data.uri.clone()),
-        position: data.position,
-    };
-    let resolved = match file_position(snapshot, &params) {
-        Some((position, _)) => snapshot.analysis.resolve_code_lens(&position, kind)?,
+    // The range ends with the counted name: its last character is in the name.
+    let document = lsp::TextDocumentIdentifier::new(data.uri.clone());
+    let name = file(snapshot, &document).map(|(path, index)| {
+        let end = convert::offset(&index, lens.range.end, snapshot.encoding);
+        // (A byte inside the last character is enough: the token there is the name.)
+        let offset = end - TextSize::from(u32::from(end > TextSize::from(0)));
+        (FilePosition { path, offset }, index)
+    });
+    let resolved = match &name {
+        Some((position, _)) => snapshot.analysis.resolve_code_lens(position, kind)?,
         None => None,
     };
+    let position = name.map_or(lens.range.end, |(position, index)| {
+        convert::position(&index, position.offset, snapshot.encoding)
+    });
     lens.command = Some(match resolved {
         Some(resolved) => {
             let locations: Vec<lsp::Location> = resolved
@@ -788,7 +864,7 @@ pub(crate) fn code_lens_resolve(
                 command: SHOW_REFERENCES.to_owned(),
                 arguments: Some(vec![
                     serde_json::json!(data.uri),
-                    serde_json::json!(data.position),
+                    serde_json::json!(position),
                     serde_json::json!(locations),
                 ]),
             }

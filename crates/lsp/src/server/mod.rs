@@ -700,6 +700,14 @@ impl LanguageServer for Backend {
             .await
     }
 
+    async fn code_action_resolve(
+        &self,
+        params: lsp::CodeAction,
+    ) -> jsonrpc::Result<lsp::CodeAction> {
+        self.answer("codeAction/resolve", params, handlers::code_action_resolve)
+            .await
+    }
+
     async fn code_lens(
         &self,
         params: lsp::CodeLensParams,
