@@ -160,7 +160,13 @@ impl Ctx<'_> {
     }
 }
 
-pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, out: &mut Import) {
+pub fn import_pou(
+    node: Node<'_, '_>,
+    globals: &ConstantGlobals<'_, '_>,
+    lines: &Lines,
+    chart_names: &mut NameSet,
+    out: &mut Import,
+) {
     let pou_name = attr(node, "name").unwrap_or("").to_owned();
     let Some(sfc) = child(node, "body").and_then(|b| child(b, "SFC")) else {
         out.skipped.push(pou_name);
@@ -208,7 +214,7 @@ pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, 
 
     let mut st_names = Names::default();
     let mut var_names = NameSet::default();
-    let vars = interface(&mut ctx, node, &mut st_names, &mut var_names);
+    let vars = interface(&mut ctx, node, globals, &mut st_names, &mut var_names);
 
     let mut walker = Walker::new(&mut ctx, sfc, st_names, var_names);
     walker.build_graph();
@@ -392,6 +398,16 @@ fn write_trans(out: &mut String, keyword: &str, t: &Trans, target: Option<&str>,
     }
 }
 
+/// Whether a branch ends in a jump: a `jump`, or an `alt` each of whose branches ends in one
+/// (nesting is bounded by the walk's depth limit).
+fn ends_in_jump(els: &[El]) -> bool {
+    match els.last() {
+        Some(El::Jump(..)) => true,
+        Some(El::Alt(branches)) => branches.iter().all(|b| ends_in_jump(b)),
+        _ => false,
+    }
+}
+
 /// Writes elements; nesting is bounded by the walk's depth limit.
 fn write_elements(out: &mut String, els: &[El], indent: usize) {
     for el in els {
@@ -441,9 +457,10 @@ fn write_elements(out: &mut String, els: &[El], indent: usize) {
 
 // ------------------------------------------------------------------------------------ interface
 
-fn interface(
+fn interface<'a, 'i>(
     ctx: &mut Ctx<'_>,
-    pou: Node<'_, '_>,
+    pou: Node<'a, 'i>,
+    globals: &ConstantGlobals<'a, 'i>,
     st_names: &mut Names,
     var_names: &mut NameSet,
 ) -> Vec<Var> {
@@ -517,7 +534,11 @@ fn interface(
                     .or_insert_with(|| name.clone());
             }
             let mut section = section;
-            if external {
+            // A constant global keeps its meaning as a stat variable with the global's value.
+            let constant_global = (external && attr(list, "constant") == Some("true"))
+                .then(|| globals.get(&iec_name.to_ascii_uppercase()).copied())
+                .flatten();
+            if external && constant_global.is_none() {
                 ctx.problem(
                     v,
                     element.clone(),
@@ -538,7 +559,7 @@ fn interface(
                 st_names.elementary.insert(name.to_ascii_uppercase(), ());
             }
             let mut init = None;
-            if let Some(iv) = child(v, "initialValue") {
+            if let Some(iv) = child(constant_global.unwrap_or(v), "initialValue") {
                 match first_element(iv) {
                     Some(sv) if xml::local(sv) == "simpleValue" && !is_fb => {
                         let raw = attr(sv, "value").unwrap_or("");
@@ -577,6 +598,26 @@ fn interface(
         }
     }
     vars
+}
+
+/// Upper-cased name → the variable of a constant `globalVars` list of the document (a
+/// configuration's or a resource's) that has an initial value; the first one of a name.
+pub type ConstantGlobals<'a, 'i> = HashMap<String, Node<'a, 'i>>;
+
+pub fn constant_globals<'a, 'i>(doc: &'a roxmltree::Document<'i>) -> ConstantGlobals<'a, 'i> {
+    let mut map = HashMap::new();
+    for list in doc.descendants().filter(|d| {
+        d.is_element() && xml::local(*d) == "globalVars" && attr(*d, "constant") == Some("true")
+    }) {
+        for v in children(list, "variable") {
+            if let Some(n) = attr(v, "name")
+                && child(v, "initialValue").is_some()
+            {
+                map.entry(n.to_ascii_uppercase()).or_insert(v);
+            }
+        }
+    }
+    map
 }
 
 /// The type in the language, whether it is a standard function block, and a note when it
@@ -1171,7 +1212,6 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                     };
                     match self.g[n].kind {
                         Kind::Jump => {
-                            self.visited[n] = true;
                             let target = self.jump_target(n);
                             els.push(El::Jump(t, target));
                             return (els, Stop::End);
@@ -1186,6 +1226,13 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                             cur = n;
                         }
                         Kind::SelConv => {
+                            if let Some(j) = self.jump_after(n) {
+                                // The branches converge only to jump: each one is the jump.
+                                self.visited[n] = true;
+                                let target = self.jump_target(j);
+                                els.push(El::Jump(t, target));
+                                return (els, Stop::End);
+                            }
                             els.push(El::Trans(t));
                             return (els, Stop::Conv(n));
                         }
@@ -1256,9 +1303,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             branches.push(self.seq(b, depth + 1));
         }
         let stops: Vec<&Stop> = branches.iter().map(|(_, s)| s).collect();
-        let jumped = |b: &(Vec<El>, Stop)| {
-            matches!(b.1, Stop::End) && matches!(b.0.last(), Some(El::Jump(..)))
-        };
+        let jumped = |b: &(Vec<El>, Stop)| matches!(b.1, Stop::End) && ends_in_jump(&b.0);
         if let Some(c) = self.common_convergence(&stops, Kind::SelConv) {
             for (k, b) in branches.iter().enumerate() {
                 if !jumped(b) && !matches!(b.1, Stop::Conv(x) if x == c) {
@@ -1367,13 +1412,27 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         }
     }
 
+    /// The jump step that is the only successor of selection convergence `c`, if it is one.
+    fn jump_after(&self, c: usize) -> Option<usize> {
+        match self.g[c].succ.as_slice() {
+            [j] if self.g[*j].kind == Kind::Jump => Some(*j),
+            _ => None,
+        }
+    }
+
+    /// The target of jump step `j` (marked visited; a problem only the first time).
     fn jump_target(&mut self, j: usize) -> String {
         let node = self.g[j].node;
+        let first = !self.visited[j];
+        self.visited[j] = true;
         let target = attr(node, "targetName").unwrap_or("").trim().to_owned();
         if let Some(name) = self.step_names.get(&target.to_ascii_uppercase()) {
             return name.clone();
         }
         let fallback = names::sanitize(&target, "Step");
+        if !first {
+            return fallback;
+        }
         self.ctx.problem(
             node,
             Some(format!("jump step to {target}")),
