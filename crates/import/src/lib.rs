@@ -20,6 +20,7 @@
 //! visited at most once, so the cost is linear in the document.
 
 mod names;
+mod network;
 mod pou;
 pub mod st;
 mod xml;

@@ -18,6 +18,7 @@ use std::fmt::Write as _;
 use roxmltree::Node;
 
 use crate::names::{self, NameSet};
+use crate::network::{Net, NetState, Translator};
 use crate::st::{self, Names};
 use crate::xml::{self, Lines, attr, child, children, first_element};
 use crate::{Chart, Import, Problem};
@@ -216,13 +217,19 @@ pub fn import_pou(
     let mut var_names = NameSet::default();
     let vars = interface(&mut ctx, node, globals, &mut st_names, &mut var_names);
 
-    let mut walker = Walker::new(&mut ctx, sfc, st_names, var_names);
+    let fb_types: HashMap<String, String> = vars
+        .iter()
+        .filter(|v| STANDARD_FBS.contains(&v.ty.as_str()))
+        .map(|v| (v.name.to_ascii_uppercase(), v.ty.clone()))
+        .collect();
+    let mut walker = Walker::new(&mut ctx, sfc, st_names, var_names, fb_types);
     walker.build_graph();
     walker.name_elements();
     walker.named_actions(node);
     walker.named_transitions(node);
     let body = walker.walk();
     let actions = std::mem::take(&mut walker.actions);
+    let pre = std::mem::take(&mut walker.pre_calls);
     drop(walker);
 
     let mut text = String::new();
@@ -277,6 +284,19 @@ pub fn import_pou(
         }
     }
     let _ = writeln!(text, "  sequencer {SEQUENCER} <");
+    match pre.as_slice() {
+        [] => {}
+        [only] if only.len() + 12 <= 100 => {
+            let _ = writeln!(text, "    pre < {only} >");
+        }
+        calls => {
+            text.push_str("    pre <\n");
+            for c in calls {
+                let _ = writeln!(text, "      {c}");
+            }
+            text.push_str("    >\n");
+        }
+    }
     write_elements(&mut text, &body, 2);
     text.push_str("  >\n");
     for a in &actions {
@@ -701,6 +721,15 @@ struct Walker<'c, 'l, 'a, 'i> {
     /// Upper-cased IEC step name → output name.
     step_names: HashMap<String, String>,
     actions: Vec<Action>,
+    /// Upper-cased output name of a standard function block instance → its type.
+    fb_types: HashMap<String, String>,
+    /// The FBD/LD elements of the SFC body, read by conditions given as connections.
+    sfc_net: Net<'a, 'i>,
+    sfc_state: NetState,
+    /// Upper-cased IEC name of a named transition with an FBD/LD body → its condition.
+    network_conditions: HashMap<String, Result<String, String>>,
+    /// Calls of the function block instances of condition networks (the sequencer's `pre`).
+    pre_calls: Vec<String>,
 }
 
 impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
@@ -709,8 +738,14 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         sfc: Node<'a, 'i>,
         st: Names,
         var_names: NameSet,
+        fb_types: HashMap<String, String>,
     ) -> Walker<'c, 'l, 'a, 'i> {
         Walker {
+            fb_types,
+            sfc_net: Net::new(sfc.children()),
+            sfc_state: NetState::default(),
+            network_conditions: HashMap::new(),
+            pre_calls: Vec::new(),
             ctx,
             sfc,
             g: Vec::new(),
@@ -1330,9 +1365,33 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 for (b, _) in branches {
                     els.extend(b);
                 }
-            } else {
-                els.push(El::Alt(branches.into_iter().map(|(e, _)| e).collect()));
+                return Flow::Stop(Stop::End);
             }
+            // Every branch ends in a jump. The longest one that goes on after its first
+            // transition continues the sequence after the `alt` (the same chart without
+            // nesting the rest of the sequence in it, as Beremiz draws a sequence with a
+            // jump back as an alternative at each step): when it is longer than the others,
+            // or when a branch would end in an `alt` (a branch ends in a step and its jumps).
+            let mut all: Vec<Vec<El>> = branches.into_iter().map(|(e, _)| e).collect();
+            let longest = (0..all.len())
+                .filter(|&i| all[i].len() > 1 && matches!(all[i][0], El::Trans(_)))
+                .max_by_key(|&i| (all[i].len(), usize::MAX - i));
+            let nested = all.iter().any(|b| matches!(b.last(), Some(El::Alt(_))));
+            let tail = match longest {
+                Some(i)
+                    if all.len() > 1
+                        && (nested
+                            || all
+                                .iter()
+                                .enumerate()
+                                .all(|(j, b)| j == i || b.len() < all[i].len())) =>
+                {
+                    all[i].split_off(1)
+                }
+                _ => Vec::new(),
+            };
+            els.push(El::Alt(all));
+            els.extend(tail);
             return Flow::Stop(Stop::End);
         };
         for &other in &open[1..] {
@@ -1650,52 +1709,66 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             return Err("the condition is empty".to_owned());
         };
         let text = match xml::local(inner) {
-            "inline" => self.st_condition(first_element(inner))?,
+            "inline" => {
+                let name = attr(inner, "name").unwrap_or("").trim().to_owned();
+                self.body_condition(first_element(inner), &name)?
+            }
             "reference" => {
-                let n = attr(inner, "name").unwrap_or("");
-                let Some(t) = self.named_transitions.get(&n.to_ascii_uppercase()).copied() else {
+                let n = attr(inner, "name").unwrap_or("").trim();
+                let upper = n.to_ascii_uppercase();
+                let Some(t) = self.named_transitions.get(&upper).copied() else {
                     return Err(format!("the named transition {n} is not in the POU"));
                 };
-                self.st_condition(child(t, "body").and_then(first_element))?
+                if let Some(done) = self.network_conditions.get(&upper) {
+                    // A network is translated once: its calls are in `pre` already.
+                    done.clone()?
+                } else {
+                    let body = child(t, "body").and_then(first_element);
+                    let result = self.body_condition(body, n);
+                    if body.is_some_and(|b| matches!(xml::local(b), "FBD" | "LD")) {
+                        self.network_conditions.insert(upper, result.clone());
+                    }
+                    result?
+                }
             }
             "connectionPointIn" => {
-                let r = child(inner, "connection")
-                    .and_then(|c| attr(c, "refLocalId"))
-                    .and_then(|v| v.trim().parse::<u64>().ok());
-                let source = r.and_then(|r| self.others.get(&r).copied());
-                match source {
-                    Some(v) if xml::local(v) == "inVariable" => {
-                        let expr = child(v, "expression").map(xml::text).unwrap_or_default();
-                        let text = st::condition(&expr, &self.st).map_err(|e| {
-                            format!("the FBD variable `{}`: {}", expr.trim(), e.reason)
-                        })?;
-                        if attr(v, "negated") == Some("true") {
-                            negate(&text)
-                        } else {
-                            text
-                        }
-                    }
-                    Some(v) => {
-                        return Err(format!(
-                            "an FBD network (<{}>) is not supported; only a connection to a variable is",
-                            xml::local(v)
-                        ));
-                    }
-                    None => return Err("the FBD connection leads to no variable".to_owned()),
-                }
+                let mut tr = Translator {
+                    names: &self.st,
+                    fb_types: &self.fb_types,
+                    calls: Vec::new(),
+                };
+                let text = tr.condition(&self.sfc_net, &mut self.sfc_state, inner);
+                self.pre_calls.append(&mut tr.calls);
+                text?
             }
             other => return Err(format!("<{other}> conditions are not supported")),
         };
         Ok(if negated { negate(&text) } else { text })
     }
 
-    fn st_condition(&self, lang: Option<Node<'_, '_>>) -> Result<String, String> {
+    /// The condition in a body (`inline` or a named transition's): ST text, or an FBD/LD
+    /// network whose output variable or coil named `name` (or only one) gives the value.
+    fn body_condition(&mut self, lang: Option<Node<'_, '_>>, name: &str) -> Result<String, String> {
         let Some(lang) = lang else {
             return Err("the condition has no body".to_owned());
         };
         match xml::local(lang) {
             "ST" => st::condition(&xml::text(lang), &self.st)
                 .map_err(|e| format!("line {} of its ST text: {}", e.line, e.reason)),
+            l @ ("FBD" | "LD") => {
+                let net = Net::new(lang.children());
+                let result = net.result(name).map_err(|e| format!("{l} body: {e}"))?;
+                let mut tr = Translator {
+                    names: &self.st,
+                    fb_types: &self.fb_types,
+                    calls: Vec::new(),
+                };
+                let text = tr
+                    .condition(&net, &mut NetState::default(), result)
+                    .map_err(|e| format!("{l} body: {e}"))?;
+                self.pre_calls.append(&mut tr.calls);
+                Ok(text)
+            }
             other => Err(format!("{other} conditions are not supported")),
         }
     }
