@@ -262,9 +262,12 @@ impl Translator<'_> {
             return m.clone();
         }
         if state.visits.get(&id) == Some(&Visit::InProgress) {
+            let what = match xml::local(e) {
+                "block" => format!("the {} block", attr(e, "typeName").unwrap_or("").trim()),
+                other => format!("<{other}>"),
+            };
             return Err(format!(
-                "a cycle through <{}> (localId {id}) without a function block instance",
-                xml::local(e)
+                "a cycle through {what} (localId {id}) without a function block instance"
             ));
         }
         state.visits.insert(id, Visit::InProgress);
@@ -395,8 +398,12 @@ impl Translator<'_> {
         }
         let n = args.len();
         let text = match (ty.as_str(), n) {
-            ("AND" | "OR" | "XOR" | "ADD" | "MUL", 2..) => paren(&args.join(&format!(" {ty} "))),
-            ("SUB" | "DIV" | "MOD", 2) => paren(&args.join(&format!(" {ty} "))),
+            ("AND" | "OR" | "XOR", 2..) => paren(&args.join(&format!(" {ty} "))),
+            ("ADD", 2..) => paren(&args.join(" + ")),
+            ("MUL", 2..) => paren(&args.join(" * ")),
+            ("SUB", 2) => paren(&args.join(" - ")),
+            ("DIV", 2) => paren(&args.join(" / ")),
+            ("MOD", 2) => paren(&args.join(" MOD ")),
             ("NOT", 1) => paren(&format!("NOT {}", args[0])),
             ("MOVE", 1) => args[0].clone(),
             ("NE", 2) => paren(&args.join(" <> ")),
