@@ -20,6 +20,7 @@
 //! visited at most once, so the cost is linear in the document.
 
 mod names;
+mod network;
 mod pou;
 pub mod st;
 mod xml;
@@ -130,13 +131,14 @@ pub fn import(text: &str) -> Result<Import, Error> {
     let lines = xml::Lines::new(text);
     let mut out = Import::default();
     let mut chart_names = names::NameSet::default();
+    let globals = pou::constant_globals(&doc);
     // POUs anywhere in the document: CODESYS keeps the POUs of an application inside the
     // resource's addData.
     for node in doc.descendants() {
         if !node.is_element() || node.tag_name().name() != "pou" {
             continue;
         }
-        pou::import_pou(node, &lines, &mut chart_names, &mut out);
+        pou::import_pou(node, &globals, &lines, &mut chart_names, &mut out);
     }
     // In the order of the file (stable: problems of one line keep their order).
     out.problems.sort_by_key(|p| p.line);

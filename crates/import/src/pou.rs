@@ -18,6 +18,7 @@ use std::fmt::Write as _;
 use roxmltree::Node;
 
 use crate::names::{self, NameSet};
+use crate::network::{Net, NetState, Translator};
 use crate::st::{self, Names};
 use crate::xml::{self, Lines, attr, child, children, first_element};
 use crate::{Chart, Import, Problem};
@@ -160,7 +161,13 @@ impl Ctx<'_> {
     }
 }
 
-pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, out: &mut Import) {
+pub fn import_pou(
+    node: Node<'_, '_>,
+    globals: &ConstantGlobals<'_, '_>,
+    lines: &Lines,
+    chart_names: &mut NameSet,
+    out: &mut Import,
+) {
     let pou_name = attr(node, "name").unwrap_or("").to_owned();
     let Some(sfc) = child(node, "body").and_then(|b| child(b, "SFC")) else {
         out.skipped.push(pou_name);
@@ -208,15 +215,21 @@ pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, 
 
     let mut st_names = Names::default();
     let mut var_names = NameSet::default();
-    let vars = interface(&mut ctx, node, &mut st_names, &mut var_names);
+    let vars = interface(&mut ctx, node, globals, &mut st_names, &mut var_names);
 
-    let mut walker = Walker::new(&mut ctx, sfc, st_names, var_names);
+    let fb_types: HashMap<String, String> = vars
+        .iter()
+        .filter(|v| STANDARD_FBS.contains(&v.ty.as_str()))
+        .map(|v| (v.name.to_ascii_uppercase(), v.ty.clone()))
+        .collect();
+    let mut walker = Walker::new(&mut ctx, sfc, st_names, var_names, fb_types);
     walker.build_graph();
     walker.name_elements();
     walker.named_actions(node);
     walker.named_transitions(node);
     let body = walker.walk();
     let actions = std::mem::take(&mut walker.actions);
+    let pre = std::mem::take(&mut walker.pre_calls);
     drop(walker);
 
     let mut text = String::new();
@@ -271,6 +284,19 @@ pub fn import_pou(node: Node<'_, '_>, lines: &Lines, chart_names: &mut NameSet, 
         }
     }
     let _ = writeln!(text, "  sequencer {SEQUENCER} <");
+    match pre.as_slice() {
+        [] => {}
+        [only] if only.len() + 12 <= 100 => {
+            let _ = writeln!(text, "    pre < {only} >");
+        }
+        calls => {
+            text.push_str("    pre <\n");
+            for c in calls {
+                let _ = writeln!(text, "      {c}");
+            }
+            text.push_str("    >\n");
+        }
+    }
     write_elements(&mut text, &body, 2);
     text.push_str("  >\n");
     for a in &actions {
@@ -392,6 +418,16 @@ fn write_trans(out: &mut String, keyword: &str, t: &Trans, target: Option<&str>,
     }
 }
 
+/// Whether a branch ends in a jump: a `jump`, or an `alt` each of whose branches ends in one
+/// (nesting is bounded by the walk's depth limit).
+fn ends_in_jump(els: &[El]) -> bool {
+    match els.last() {
+        Some(El::Jump(..)) => true,
+        Some(El::Alt(branches)) => branches.iter().all(|b| ends_in_jump(b)),
+        _ => false,
+    }
+}
+
 /// Writes elements; nesting is bounded by the walk's depth limit.
 fn write_elements(out: &mut String, els: &[El], indent: usize) {
     for el in els {
@@ -441,9 +477,10 @@ fn write_elements(out: &mut String, els: &[El], indent: usize) {
 
 // ------------------------------------------------------------------------------------ interface
 
-fn interface(
+fn interface<'a, 'i>(
     ctx: &mut Ctx<'_>,
-    pou: Node<'_, '_>,
+    pou: Node<'a, 'i>,
+    globals: &ConstantGlobals<'a, 'i>,
     st_names: &mut Names,
     var_names: &mut NameSet,
 ) -> Vec<Var> {
@@ -517,7 +554,11 @@ fn interface(
                     .or_insert_with(|| name.clone());
             }
             let mut section = section;
-            if external {
+            // A constant global keeps its meaning as a stat variable with the global's value.
+            let constant_global = (external && attr(list, "constant") == Some("true"))
+                .then(|| globals.get(&iec_name.to_ascii_uppercase()).copied())
+                .flatten();
+            if external && constant_global.is_none() {
                 ctx.problem(
                     v,
                     element.clone(),
@@ -538,7 +579,7 @@ fn interface(
                 st_names.elementary.insert(name.to_ascii_uppercase(), ());
             }
             let mut init = None;
-            if let Some(iv) = child(v, "initialValue") {
+            if let Some(iv) = child(constant_global.unwrap_or(v), "initialValue") {
                 match first_element(iv) {
                     Some(sv) if xml::local(sv) == "simpleValue" && !is_fb => {
                         let raw = attr(sv, "value").unwrap_or("");
@@ -577,6 +618,26 @@ fn interface(
         }
     }
     vars
+}
+
+/// Upper-cased name → the variable of a constant `globalVars` list of the document (a
+/// configuration's or a resource's) that has an initial value; the first one of a name.
+pub type ConstantGlobals<'a, 'i> = HashMap<String, Node<'a, 'i>>;
+
+pub fn constant_globals<'a, 'i>(doc: &'a roxmltree::Document<'i>) -> ConstantGlobals<'a, 'i> {
+    let mut map = HashMap::new();
+    for list in doc.descendants().filter(|d| {
+        d.is_element() && xml::local(*d) == "globalVars" && attr(*d, "constant") == Some("true")
+    }) {
+        for v in children(list, "variable") {
+            if let Some(n) = attr(v, "name")
+                && child(v, "initialValue").is_some()
+            {
+                map.entry(n.to_ascii_uppercase()).or_insert(v);
+            }
+        }
+    }
+    map
 }
 
 /// The type in the language, whether it is a standard function block, and a note when it
@@ -660,6 +721,15 @@ struct Walker<'c, 'l, 'a, 'i> {
     /// Upper-cased IEC step name → output name.
     step_names: HashMap<String, String>,
     actions: Vec<Action>,
+    /// Upper-cased output name of a standard function block instance → its type.
+    fb_types: HashMap<String, String>,
+    /// The FBD/LD elements of the SFC body, read by conditions given as connections.
+    sfc_net: Net<'a, 'i>,
+    sfc_state: NetState,
+    /// Upper-cased IEC name of a named transition with an FBD/LD body → its condition.
+    network_conditions: HashMap<String, Result<String, String>>,
+    /// Calls of the function block instances of condition networks (the sequencer's `pre`).
+    pre_calls: Vec<String>,
 }
 
 impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
@@ -668,8 +738,14 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         sfc: Node<'a, 'i>,
         st: Names,
         var_names: NameSet,
+        fb_types: HashMap<String, String>,
     ) -> Walker<'c, 'l, 'a, 'i> {
         Walker {
+            fb_types,
+            sfc_net: Net::new(sfc.children()),
+            sfc_state: NetState::default(),
+            network_conditions: HashMap::new(),
+            pre_calls: Vec::new(),
             ctx,
             sfc,
             g: Vec::new(),
@@ -1171,7 +1247,6 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                     };
                     match self.g[n].kind {
                         Kind::Jump => {
-                            self.visited[n] = true;
                             let target = self.jump_target(n);
                             els.push(El::Jump(t, target));
                             return (els, Stop::End);
@@ -1186,6 +1261,13 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                             cur = n;
                         }
                         Kind::SelConv => {
+                            if let Some(j) = self.jump_after(n) {
+                                // The branches converge only to jump: each one is the jump.
+                                self.visited[n] = true;
+                                let target = self.jump_target(j);
+                                els.push(El::Jump(t, target));
+                                return (els, Stop::End);
+                            }
                             els.push(El::Trans(t));
                             return (els, Stop::Conv(n));
                         }
@@ -1256,9 +1338,7 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             branches.push(self.seq(b, depth + 1));
         }
         let stops: Vec<&Stop> = branches.iter().map(|(_, s)| s).collect();
-        let jumped = |b: &(Vec<El>, Stop)| {
-            matches!(b.1, Stop::End) && matches!(b.0.last(), Some(El::Jump(..)))
-        };
+        let jumped = |b: &(Vec<El>, Stop)| matches!(b.1, Stop::End) && ends_in_jump(&b.0);
         if let Some(c) = self.common_convergence(&stops, Kind::SelConv) {
             for (k, b) in branches.iter().enumerate() {
                 if !jumped(b) && !matches!(b.1, Stop::Conv(x) if x == c) {
@@ -1285,9 +1365,33 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
                 for (b, _) in branches {
                     els.extend(b);
                 }
-            } else {
-                els.push(El::Alt(branches.into_iter().map(|(e, _)| e).collect()));
+                return Flow::Stop(Stop::End);
             }
+            // Every branch ends in a jump. The longest one that goes on after its first
+            // transition continues the sequence after the `alt` (the same chart without
+            // nesting the rest of the sequence in it, as Beremiz draws a sequence with a
+            // jump back as an alternative at each step): when it is longer than the others,
+            // or when a branch would end in an `alt` (a branch ends in a step and its jumps).
+            let mut all: Vec<Vec<El>> = branches.into_iter().map(|(e, _)| e).collect();
+            let longest = (0..all.len())
+                .filter(|&i| all[i].len() > 1 && matches!(all[i][0], El::Trans(_)))
+                .max_by_key(|&i| (all[i].len(), usize::MAX - i));
+            let nested = all.iter().any(|b| matches!(b.last(), Some(El::Alt(_))));
+            let tail = match longest {
+                Some(i)
+                    if all.len() > 1
+                        && (nested
+                            || all
+                                .iter()
+                                .enumerate()
+                                .all(|(j, b)| j == i || b.len() < all[i].len())) =>
+                {
+                    all[i].split_off(1)
+                }
+                _ => Vec::new(),
+            };
+            els.push(El::Alt(all));
+            els.extend(tail);
             return Flow::Stop(Stop::End);
         };
         for &other in &open[1..] {
@@ -1367,13 +1471,27 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
         }
     }
 
+    /// The jump step that is the only successor of selection convergence `c`, if it is one.
+    fn jump_after(&self, c: usize) -> Option<usize> {
+        match self.g[c].succ.as_slice() {
+            [j] if self.g[*j].kind == Kind::Jump => Some(*j),
+            _ => None,
+        }
+    }
+
+    /// The target of jump step `j` (marked visited; a problem only the first time).
     fn jump_target(&mut self, j: usize) -> String {
         let node = self.g[j].node;
+        let first = !self.visited[j];
+        self.visited[j] = true;
         let target = attr(node, "targetName").unwrap_or("").trim().to_owned();
         if let Some(name) = self.step_names.get(&target.to_ascii_uppercase()) {
             return name.clone();
         }
         let fallback = names::sanitize(&target, "Step");
+        if !first {
+            return fallback;
+        }
         self.ctx.problem(
             node,
             Some(format!("jump step to {target}")),
@@ -1591,52 +1709,66 @@ impl<'c, 'l, 'a, 'i> Walker<'c, 'l, 'a, 'i> {
             return Err("the condition is empty".to_owned());
         };
         let text = match xml::local(inner) {
-            "inline" => self.st_condition(first_element(inner))?,
+            "inline" => {
+                let name = attr(inner, "name").unwrap_or("").trim().to_owned();
+                self.body_condition(first_element(inner), &name)?
+            }
             "reference" => {
-                let n = attr(inner, "name").unwrap_or("");
-                let Some(t) = self.named_transitions.get(&n.to_ascii_uppercase()).copied() else {
+                let n = attr(inner, "name").unwrap_or("").trim();
+                let upper = n.to_ascii_uppercase();
+                let Some(t) = self.named_transitions.get(&upper).copied() else {
                     return Err(format!("the named transition {n} is not in the POU"));
                 };
-                self.st_condition(child(t, "body").and_then(first_element))?
+                if let Some(done) = self.network_conditions.get(&upper) {
+                    // A network is translated once: its calls are in `pre` already.
+                    done.clone()?
+                } else {
+                    let body = child(t, "body").and_then(first_element);
+                    let result = self.body_condition(body, n);
+                    if body.is_some_and(|b| matches!(xml::local(b), "FBD" | "LD")) {
+                        self.network_conditions.insert(upper, result.clone());
+                    }
+                    result?
+                }
             }
             "connectionPointIn" => {
-                let r = child(inner, "connection")
-                    .and_then(|c| attr(c, "refLocalId"))
-                    .and_then(|v| v.trim().parse::<u64>().ok());
-                let source = r.and_then(|r| self.others.get(&r).copied());
-                match source {
-                    Some(v) if xml::local(v) == "inVariable" => {
-                        let expr = child(v, "expression").map(xml::text).unwrap_or_default();
-                        let text = st::condition(&expr, &self.st).map_err(|e| {
-                            format!("the FBD variable `{}`: {}", expr.trim(), e.reason)
-                        })?;
-                        if attr(v, "negated") == Some("true") {
-                            negate(&text)
-                        } else {
-                            text
-                        }
-                    }
-                    Some(v) => {
-                        return Err(format!(
-                            "an FBD network (<{}>) is not supported; only a connection to a variable is",
-                            xml::local(v)
-                        ));
-                    }
-                    None => return Err("the FBD connection leads to no variable".to_owned()),
-                }
+                let mut tr = Translator {
+                    names: &self.st,
+                    fb_types: &self.fb_types,
+                    calls: Vec::new(),
+                };
+                let text = tr.condition(&self.sfc_net, &mut self.sfc_state, inner);
+                self.pre_calls.append(&mut tr.calls);
+                text?
             }
             other => return Err(format!("<{other}> conditions are not supported")),
         };
         Ok(if negated { negate(&text) } else { text })
     }
 
-    fn st_condition(&self, lang: Option<Node<'_, '_>>) -> Result<String, String> {
+    /// The condition in a body (`inline` or a named transition's): ST text, or an FBD/LD
+    /// network whose output variable or coil named `name` (or only one) gives the value.
+    fn body_condition(&mut self, lang: Option<Node<'_, '_>>, name: &str) -> Result<String, String> {
         let Some(lang) = lang else {
             return Err("the condition has no body".to_owned());
         };
         match xml::local(lang) {
             "ST" => st::condition(&xml::text(lang), &self.st)
                 .map_err(|e| format!("line {} of its ST text: {}", e.line, e.reason)),
+            l @ ("FBD" | "LD") => {
+                let net = Net::new(lang.children());
+                let result = net.result(name).map_err(|e| format!("{l} body: {e}"))?;
+                let mut tr = Translator {
+                    names: &self.st,
+                    fb_types: &self.fb_types,
+                    calls: Vec::new(),
+                };
+                let text = tr
+                    .condition(&net, &mut NetState::default(), result)
+                    .map_err(|e| format!("{l} body: {e}"))?;
+                self.pre_calls.append(&mut tr.calls);
+                Ok(text)
+            }
             other => Err(format!("{other} conditions are not supported")),
         }
     }

@@ -74,6 +74,88 @@ fn beremiz_station() {
     assert_parses("beremiz_station.xml");
 }
 
+/// Beremiz conditions drawn as networks: LD contacts in series and parallel, FBD functions
+/// through a connector, named transitions with FBD and LD bodies, standard function block
+/// instances called in `pre` (one fed back by its own output), and branches that converge
+/// only to jump back.
+#[test]
+fn beremiz_networks() {
+    let out = render("beremiz_networks.xml");
+    insta::assert_snapshot!(out);
+    assert!(
+        out.ends_with("=== problems\n=== skipped POUs without SFC: []\n"),
+        "{out}"
+    );
+    assert_parses("beremiz_networks.xml");
+}
+
+/// What a network may hold that the language cannot express: each condition becomes FALSE
+/// with a problem naming it, and the calls of a failed condition are not kept.
+#[test]
+fn network_problems_are_reported() {
+    let out = render("network_problems.xml");
+    insta::assert_snapshot!(out);
+    assert!(!out.contains("pre <"), "{out}");
+    assert_parses("network_problems.xml");
+}
+
+/// A network deeper than the limit, and one whose shared parts would make the expression
+/// exponentially long: both are reported quickly instead of overflowing or blowing up.
+#[test]
+fn deep_and_wide_networks_are_bounded() {
+    let chart = |network: &str, root: usize| {
+        format!(
+            "<project><types><pous><pou name=\"N\" pouType=\"program\">\
+             <interface><inputVars><variable name=\"A\"><type><BOOL/></type></variable></inputVars></interface>\
+             <body><SFC><step localId=\"1\" name=\"S\" initialStep=\"true\"/>\
+             <transition localId=\"2\"><connectionPointIn><connection refLocalId=\"1\"/></connectionPointIn>\
+             <condition><connectionPointIn><connection refLocalId=\"{root}\"/></connectionPointIn></condition></transition>\
+             <step localId=\"3\" name=\"E\"><connectionPointIn><connection refLocalId=\"2\"/></connectionPointIn></step>\
+             <inVariable localId=\"10\"><connectionPointOut/><expression>A</expression></inVariable>{network}</SFC></body></pou></pous></types></project>"
+        )
+    };
+    let block = |id: usize, ty: &str, inputs: &[usize]| {
+        let mut b = format!("<block localId=\"{id}\" typeName=\"{ty}\"><inputVariables>");
+        for (k, i) in inputs.iter().enumerate() {
+            let _ = write!(
+                b,
+                "<variable formalParameter=\"IN{}\"><connectionPointIn><connection refLocalId=\"{i}\"/></connectionPointIn></variable>",
+                k + 1
+            );
+        }
+        b.push_str("</inputVariables><outputVariables><variable formalParameter=\"OUT\"/></outputVariables></block>");
+        b
+    };
+    // 10 000 NOT blocks in a chain.
+    let mut net = String::new();
+    for i in 0..10_000 {
+        net.push_str(&block(11 + i, "NOT", &[10 + i]));
+    }
+    let out = higraph_import::import(&chart(&net, 10_010)).unwrap();
+    assert!(
+        out.problems
+            .iter()
+            .any(|p| p.message.contains("deeper than 40 elements")),
+        "{:?}",
+        out.problems
+    );
+    // 35 levels of AND(x, x): 2^35 copies of A if the sharing were expanded.
+    let mut net = String::new();
+    for i in 0..35 {
+        net.push_str(&block(11 + i, "AND", &[10 + i, 10 + i]));
+    }
+    let started = std::time::Instant::now();
+    let out = higraph_import::import(&chart(&net, 45)).unwrap();
+    assert!(
+        out.problems
+            .iter()
+            .any(|p| p.message.contains("longer than 20000 characters")),
+        "{:?}",
+        out.problems
+    );
+    assert!(started.elapsed().as_secs() < 5, "{:?}", started.elapsed());
+}
+
 #[test]
 fn unsupported_constructs_are_reported_and_the_rest_imports() {
     insta::assert_snapshot!(render("unsupported.xml"));
@@ -190,6 +272,8 @@ fn damaged_files_never_panic() {
         "beremiz_station.xml",
         "unsupported.xml",
         "broken_graph.xml",
+        "beremiz_networks.xml",
+        "network_problems.xml",
     ];
     let words = [
         "IF ",

@@ -152,20 +152,22 @@ fn usage() {
     assert!(run.stderr.contains("is not a folder"), "{}", run.stderr);
 }
 
-/// The three dialects import into charts that `check` finds nothing wrong with.
+/// The three dialects (and Beremiz conditions drawn as networks) import into charts that
+/// `check` finds nothing wrong with.
 #[test]
 fn imported_examples_check_clean() {
     let files = [
         "neutral_mixer.xml",
         "codesys_ampel.xml",
         "beremiz_station.xml",
+        "beremiz_networks.xml",
     ];
     let tree = tree_with(&files);
     let mut args = vec!["import", "-o", "charts"];
     args.extend(files);
     let run = run_in(tree.path(), &args);
     assert_eq!(run.status, 0, "{run:?}");
-    assert_eq!(run.stderr, "imported 3 charts from 3 files\n");
+    assert_eq!(run.stderr, "imported 4 charts from 4 files\n");
     let check = run_in(
         &tree.path().join("charts"),
         &["check", "--format", "short", "."],

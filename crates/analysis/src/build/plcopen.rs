@@ -1386,7 +1386,12 @@ mod tests {
     /// `(file stem + POU, text)`.
     fn imported_charts() -> Vec<(String, String)> {
         let mut out = Vec::new();
-        for stem in ["codesys_ampel", "beremiz_station", "neutral_mixer"] {
+        for stem in [
+            "codesys_ampel",
+            "beremiz_station",
+            "neutral_mixer",
+            "beremiz_networks",
+        ] {
             let path = root().join(format!("tests/data/plcopen/import/{stem}.xml"));
             let xml = std::fs::read_to_string(&path).unwrap_or_default();
             let Ok(import) = higraph_import::import(&xml) else {
