@@ -216,6 +216,9 @@ struct Reader<'g, 'a> {
     notes: Vec<String>,
     /// The chart says `profile iec;` (`docs/iec.md`): ST statements, IEC jumps, FB members.
     iec: bool,
+    /// The chart's named actions by key (`index::key`), spelled as declared: a qualifier
+    /// may name an action in any letter case, the POU's reference uses the declaration's.
+    action_names: HashMap<String, String>,
 }
 
 impl Reader<'_, '_> {
@@ -234,6 +237,15 @@ impl Reader<'_, '_> {
     /// An operand as ST. `action`: it names an action (a variable is required, so an address
     /// becomes a global variable).
     fn path(&mut self, path: &ast::Path, action: bool) -> Option<String> {
+        if action
+            && let Some(declared) = path
+                .segments()
+                .next()
+                .filter(|_| path.segments().nth(1).is_none())
+                .and_then(|name| self.action_names.get(&crate::index::key(&name.text())))
+        {
+            return Some(declared.clone());
+        }
         let target = operands::resolve(
             &mut self.ctx,
             &mut self.scope,
@@ -929,7 +941,15 @@ fn chart_pou(
         sfc_inputs: Vec::new(),
         notes: Vec::new(),
         iec,
+        action_names: HashMap::new(),
     };
+    for name in chart.actions().filter_map(|a| a.name().map(|n| n.text())) {
+        // The first declaration of a name wins (HG7510).
+        reader
+            .action_names
+            .entry(crate::index::key(&name))
+            .or_insert(name);
+    }
     let mut props = Vec::new();
     for prop in chart.props() {
         let (Some(keyword), Some(value)) = (prop.keyword(), prop.value()) else {
