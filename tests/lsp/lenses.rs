@@ -49,7 +49,7 @@ fn count_lenses_resolve_to_the_references() {
     assert!(
         unresolved
             .iter()
-            .all(|lens| lens["command"].is_null() && lens["data"]["uri"] == uri),
+            .all(|lens| lens["command"].is_null() && lens["data"][0] == unresolved[0]["data"][0]),
         "{unresolved:?}"
     );
     let resolved: Vec<Value> = unresolved
@@ -88,7 +88,7 @@ fn count_lenses_resolve_to_the_references() {
     );
 
     // Every command opens the references view at the counted name (the lens's range ends
-    // with it, the data holds only the document and the kind); a symbol's locations are its
+    // with it, the data holds only the document's and the kind's numbers); a symbol's locations are its
     // references.
     for lens in &resolved {
         let command = &lens["command"];
@@ -101,8 +101,11 @@ fn count_lenses_resolve_to_the_references() {
             end["character"].as_u64(),
             "{lens}"
         );
-        let data = lens["data"].as_object().expect("data");
-        assert_eq!(data.len(), 2, "only the document and the kind: {lens}");
+        let data = lens["data"].as_array().expect("data");
+        assert!(
+            data.len() == 2 && data.iter().all(Value::is_u64),
+            "only the document's and the kind's numbers: {lens}"
+        );
     }
     let taster = &resolved[0];
     let references = server
@@ -128,6 +131,59 @@ fn count_lenses_resolve_to_the_references() {
         .request("codeLens/resolve", tests[0].clone())
         .expect("codeLens/resolve answers");
     assert_eq!(again, tests[0]);
+
+    assert_eq!(server.shutdown_and_exit(), 0);
+}
+
+/// The data names the document by its number in the server's lens table, which only keeps
+/// open documents: after `didClose` a listed lens resolves to the plain label `outdated`;
+/// data that is not `[document, kind]` with a known kind is an error, never a crash.
+#[test]
+fn stale_or_made_up_lens_data_is_answered() {
+    let tree = workspace();
+    let (mut server, _) = Server::initialized(&tree.path(), json!({}));
+    let uri = tree.uri("anlage.higraph");
+    let text = std::fs::read_to_string(tree.path().join("anlage.higraph")).expect("the text");
+    server.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": uri, "languageId": "higraph", "version": 1, "text": text}}),
+    );
+    let listed = lenses(&mut server, &uri);
+    let lens = listed.first().cloned().expect("a count lens");
+    let resolved = server
+        .request("codeLens/resolve", lens.clone())
+        .expect("codeLens/resolve answers");
+    assert_eq!(resolved["command"]["command"], "higraph.showReferences");
+    // Listing again keeps the document's number.
+    assert_eq!(lenses(&mut server, &uri)[0]["data"], lens["data"]);
+
+    for data in [
+        json!({"uri": uri, "kind": "symbolUses"}),
+        json!([lens["data"][0], 7]),
+        json!("x"),
+    ] {
+        let mut made_up = lens.clone();
+        made_up["data"] = data;
+        let error = server
+            .request("codeLens/resolve", made_up)
+            .expect_err("made-up data is an error");
+        assert!(
+            error["message"]
+                .as_str()
+                .is_some_and(|m| m.contains("code lens")),
+            "{error}"
+        );
+    }
+
+    server.notify(
+        "textDocument/didClose",
+        json!({"textDocument": {"uri": uri}}),
+    );
+    let stale = server
+        .request("codeLens/resolve", lens)
+        .expect("codeLens/resolve answers");
+    assert_eq!(stale["command"]["title"], "outdated", "{stale}");
+    assert_eq!(stale["command"]["command"], "", "{stale}");
 
     assert_eq!(server.shutdown_and_exit(), 0);
 }

@@ -208,15 +208,15 @@ impl Session {
             // A count lens to resolve, at any position, of any kind.
             11 if self.rng.chance(30) => {
                 let uri = self.any_uri();
-                let position = self.position();
-                let kind = *self
-                    .rng
-                    .pick(&["stateIncoming", "symbolUses", "groupMessages", "x"]);
+                let kind = *self.rng.pick(&[0, 4, 6, 7, 1000]);
+                let document = *self.rng.pick(&[0, 1, 2, 3, u64::MAX]);
+                let data = if self.rng.chance(20) {
+                    json!({"uri": uri, "kind": "stateIncoming"})
+                } else {
+                    json!([document, kind])
+                };
                 let range = self.range();
-                self.request(
-                    "codeLens/resolve",
-                    json!({"range": range, "data": {"uri": uri, "position": position, "kind": kind}}),
-                );
+                self.request("codeLens/resolve", json!({"range": range, "data": data}));
             }
             11 => {
                 let uri = self.any_uri();

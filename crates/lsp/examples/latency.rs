@@ -60,6 +60,8 @@ block FB 20 < in < Sollwert : REAL; Istwert : REAL; Handbetrieb : BOOL; > out < 
 block FC 12 < in < Text : STRING; Nummer : INT; > >
 ";
 const WARM_UP: usize = 5;
+/// The number of the kind `stateIncoming` in a count lens's data (`[document, kind]`).
+const STATE_INCOMING: u64 = 4;
 const TIMEOUT: Duration = Duration::from_secs(30);
 
 struct Options {
@@ -204,6 +206,10 @@ fn run(options: &Options) -> Result<(), String> {
     );
     row("  edit -> textDocument/diagnostic (pull)", &pulled);
     row("  codeLens after the edit", &server.lens);
+    println!(
+        "    (answer: {} lenses, {} bytes of JSON)",
+        server.lens_answer.0, server.lens_answer.1
+    );
     row(
         "  codeLens/resolve (state lens) after the edit",
         &server.lens_resolve,
@@ -235,6 +241,8 @@ struct Samples {
     signature: Vec<Duration>,
     lens: Vec<Duration>,
     lens_resolve: Vec<Duration>,
+    /// The lenses and the bytes of the last `textDocument/codeLens` answer (its JSON text).
+    lens_answer: (usize, usize),
 }
 
 /// The character of round `round`: odd rounds break the operation, even ones repair it.
@@ -334,9 +342,13 @@ fn over_stdio(
             json!({ "textDocument": { "uri": uri } }),
         )?;
         let lens = start.elapsed();
+        samples.lens_answer = (
+            lenses.as_array().map_or(0, Vec::len),
+            lenses.to_string().len(),
+        );
         let state_lens = lenses
             .as_array()
-            .and_then(|lenses| lenses.iter().find(|l| l["data"]["kind"] == "stateIncoming"))
+            .and_then(|lenses| lenses.iter().find(|l| l["data"][1] == STATE_INCOMING))
             .cloned()
             .ok_or("no state lens")?;
         let start = Instant::now();

@@ -57,19 +57,34 @@ impl LensKind {
         }
     }
 
+    /// Every kind, in a stable order: a kind's place here is its number
+    /// ([`LensKind::number`], the language server's lens data).
+    pub const ALL: [LensKind; 7] = [
+        LensKind::GraphInstances,
+        LensKind::GraphReferences,
+        LensKind::GroupInstances,
+        LensKind::GroupMessages,
+        LensKind::StateIncoming,
+        LensKind::StateOutgoing,
+        LensKind::SymbolUses,
+    ];
+
     /// The kind of a name given by [`LensKind::as_str`].
     pub fn from_name(name: &str) -> Option<LensKind> {
-        [
-            LensKind::GraphInstances,
-            LensKind::GraphReferences,
-            LensKind::GroupInstances,
-            LensKind::GroupMessages,
-            LensKind::StateIncoming,
-            LensKind::StateOutgoing,
-            LensKind::SymbolUses,
-        ]
-        .into_iter()
-        .find(|kind| kind.as_str() == name)
+        LensKind::ALL.into_iter().find(|kind| kind.as_str() == name)
+    }
+
+    /// The kind's small stable number (its place in [`LensKind::ALL`]).
+    pub fn number(self) -> u8 {
+        LensKind::ALL
+            .iter()
+            .position(|kind| *kind == self)
+            .map_or(0, |place| place as u8)
+    }
+
+    /// The kind of a number given by [`LensKind::number`].
+    pub fn from_number(number: u64) -> Option<LensKind> {
+        LensKind::ALL.get(usize::try_from(number).ok()?).copied()
     }
 
     /// The title for `count` places: `1 instance`, `3 references`.

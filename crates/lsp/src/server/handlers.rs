@@ -778,9 +778,11 @@ pub(crate) fn outgoing_calls(
 pub(crate) const SHOW_REFERENCES: &str = "higraph.showReferences";
 
 /// `textDocument/codeLens`: the test lenses (`▶ Run test`, already resolved) and the count
-/// lenses, unresolved: their range (which ends with the counted name) and, as data, the
-/// document and the kind of count. A big graph has hundreds of lenses, and the answer's
-/// size is what it costs over stdio: the data holds nothing the range gives.
+/// lenses, unresolved: their range (which ends with the counted name) and, as data, `[n, k]`:
+/// the document's number in the server's lens table (`lens_table`) and the kind's number
+/// ([`LensKind::number`](higraph_analysis::ide::LensKind::number)). A big graph has hundreds
+/// of lenses, and the answer's size is what it costs over stdio: the data holds nothing the
+/// range gives and no URI.
 pub(crate) fn code_lens(
     snapshot: &Snapshot,
     params: lsp::CodeLensParams,
@@ -789,32 +791,24 @@ pub(crate) fn code_lens(
     let mut lenses = super::testing::code_lens(snapshot, params)?.unwrap_or_default();
     if let Some(path) = snapshot.path(&uri)
         && let Some(index) = snapshot.line_index(&path)
+        && let Some(number) = snapshot.lens_number(&path)
     {
-        let uri = serde_json::json!(uri);
         for lens in snapshot.analysis.code_lenses(&path)? {
             lenses.push(lsp::CodeLens {
                 range: convert::range(&index, lens.range, snapshot.encoding),
                 command: None,
-                data: Some(serde_json::json!({
-                    "uri": uri,
-                    "kind": lens.kind.as_str(),
-                })),
+                data: Some(serde_json::json!([number, lens.kind.number()])),
             });
         }
     }
     Ok(Some(lenses))
 }
 
-/// The data of an unresolved count lens.
-#[derive(serde::Deserialize)]
-struct LensData {
-    uri: lsp::Uri,
-    kind: String,
-}
-
-/// `codeLens/resolve`: counts a lens's places with the references search and gives it the
-/// command [`SHOW_REFERENCES`]. A lens whose name changed meanwhile gets a title without a
-/// command; a lens that has its command already comes back unchanged.
+/// `codeLens/resolve`: counts a lens's places and gives it the command [`SHOW_REFERENCES`].
+/// A lens whose name changed meanwhile, or whose document was closed since the listing (its
+/// number is no longer in the lens table), gets the title `outdated` without a command; a
+/// lens that has its command already comes back unchanged; data that is not `[n, k]` with a
+/// known kind is an error.
 pub(crate) fn code_lens_resolve(
     snapshot: &Snapshot,
     mut lens: lsp::CodeLens,
@@ -822,23 +816,29 @@ pub(crate) fn code_lens_resolve(
     if lens.command.is_some() {
         return Ok(lens);
     }
-    let Some(data) = lens
+    let Some((number, kind)) = lens
         .data
         .clone()
-        .and_then(|data| serde_json::from_value::<LensData>(data).ok())
+        .and_then(|data| serde_json::from_value::<(u64, u64)>(data).ok())
     else {
         return Err(HandlerError::Failed(
-            "the code lens has no valid data".into(),
+            "the code lens has no valid data (expected [document, kind])".into(),
         ));
     };
-    let Some(kind) = higraph_analysis::ide::LensKind::from_name(&data.kind) else {
+    let Some(kind) = higraph_analysis::ide::LensKind::from_number(kind) else {
         return Err(HandlerError::Failed(format!(
-            "unknown code lens kind `{}`",
-            data.kind
+            "unknown code lens kind {kind}"
         )));
     };
+    let Some(uri) = snapshot
+        .lens_path(number)
+        .and_then(|path| snapshot.uri(&path))
+    else {
+        lens.command = Some(outdated_lens());
+        return Ok(lens);
+    };
     // The range ends with the counted name: its last character is in the name.
-    let document = lsp::TextDocumentIdentifier::new(data.uri.clone());
+    let document = lsp::TextDocumentIdentifier::new(uri.clone());
     let name = file(snapshot, &document).map(|(path, index)| {
         let end = convert::offset(&index, lens.range.end, snapshot.encoding);
         // (A byte inside the last character is enough: the token there is the name.)
@@ -863,18 +863,24 @@ pub(crate) fn code_lens_resolve(
                 title: resolved.title,
                 command: SHOW_REFERENCES.to_owned(),
                 arguments: Some(vec![
-                    serde_json::json!(data.uri),
+                    serde_json::json!(uri),
                     serde_json::json!(position),
                     serde_json::json!(locations),
                 ]),
             }
         }
         // An empty command makes the lens a plain label; the next edit lists fresh lenses.
-        None => lsp::Command {
-            title: "outdated".to_owned(),
-            command: String::new(),
-            arguments: None,
-        },
+        None => outdated_lens(),
     });
     Ok(lens)
+}
+
+/// The command of a lens that no longer fits the text: a plain label (an empty command); the
+/// next edit lists fresh lenses.
+fn outdated_lens() -> lsp::Command {
+    lsp::Command {
+        title: "outdated".to_owned(),
+        command: String::new(),
+        arguments: None,
+    }
 }

@@ -16,6 +16,7 @@ mod capabilities;
 mod convert;
 mod diagnostics;
 mod handlers;
+mod lens_table;
 mod pull;
 mod rule_pages;
 mod state;

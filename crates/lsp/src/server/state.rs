@@ -202,6 +202,8 @@ pub(crate) struct Snapshot {
     test_records: TestRecords,
     /// The last semantic tokens sent per open document (`token_delta`).
     semantic_tokens: Arc<TokenCache>,
+    /// The document numbers of the count lenses' data (shared with the world).
+    lens_table: Arc<super::lens_table::LensTable>,
 }
 
 /// The line indexes of files that are not open, by workspace path, with the contents they
@@ -249,6 +251,17 @@ impl Snapshot {
     ) {
         self.semantic_tokens
             .store(path, previous, tokens, &|p| self.open_uris.contains_key(p))
+    }
+
+    /// The number of `path` in the count lenses' data (see `lens_table`).
+    pub(crate) fn lens_number(&self, path: &str) -> Option<u64> {
+        self.lens_table
+            .number(path, &|p| self.open_uris.contains_key(p))
+    }
+
+    /// The workspace path of a number from the count lenses' data.
+    pub(crate) fn lens_path(&self, number: u64) -> Option<String> {
+        self.lens_table.path(number)
     }
 
     /// The contents generation of the snapshot's files: it changes whenever a file does.
@@ -371,6 +384,8 @@ struct World {
     code_lens_refresh: bool,
     /// The last semantic tokens sent per open document (see [`Snapshot`]).
     semantic_tokens: Arc<TokenCache>,
+    /// The document numbers of the count lenses' data, shared with the snapshots.
+    lens_table: Arc<super::lens_table::LensTable>,
     /// Where the rules' pages are (see `rule_pages`).
     rules_base: Option<Arc<str>>,
     /// The revision whose diagnostics are in `published`.
@@ -407,6 +422,7 @@ impl World {
             test_records: TestRecords::default(),
             code_lens_refresh: false,
             semantic_tokens: Arc::default(),
+            lens_table: Arc::default(),
             rules_base: None,
             ready: 0,
             result_ids: HashMap::new(),
@@ -543,6 +559,7 @@ impl World {
             generation: self.generation,
             test_records: self.test_records.clone(),
             semantic_tokens: self.semantic_tokens.clone(),
+            lens_table: self.lens_table.clone(),
         }
     }
 
@@ -762,6 +779,7 @@ impl World {
         };
         Arc::make_mut(&mut self.open_uris).remove(&name);
         self.semantic_tokens.forget(&name);
+        self.lens_table.forget(&name);
         if !document.analysed {
             return;
         }
