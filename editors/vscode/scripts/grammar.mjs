@@ -92,6 +92,8 @@ const S = {
   stepName: 'entity.name.function.step.higraph',
   transName: 'entity.name.function.transition.higraph',
   seqName: 'entity.name.function.sequencer.higraph',
+  actionName: 'entity.name.function.action.higraph',
+  flow: 'keyword.control.flow.higraph',
   instName: 'entity.name.variable.instance.higraph',
   declName: 'entity.name.variable.higraph',
   label: 'entity.name.label.higraph',
@@ -341,6 +343,16 @@ const repository = {
         captures: { 1: { name: S.other }, 2: { name: S.langConst } },
       },
       {
+        match: r`(?i)\b(profile)\s+(iec|pcs7)\b`,
+        captures: { 1: { name: S.other }, 2: { name: S.langConst } },
+      },
+      // IEC charts (docs/iec.md): named actions and structured text
+      {
+        match: r`(?i)\b(action)\s+(${ID})(?=\s*(?:"[^"]*"\s*)?<)`,
+        captures: { 1: { name: S.member }, 2: { name: S.actionName } },
+      },
+      { match: r`(?i)\b(IF|THEN|ELSIF|ELSE|END_IF|CASE|OF|END_CASE)\b(?!\s*(?::=|\.))`, name: S.flow },
+      {
         match: r`(?i)\b(switching)\s+(T_or_B|T_and_B|T|B|step)\b`,
         captures: { 1: { name: S.other }, 2: { name: S.langConst } },
       },
@@ -409,7 +421,7 @@ const repository = {
       {
         // IEC action qualifiers of chart steps that are not STL operations (N P D DS SL);
         // S R L SD are coloured as the operations above
-        match: r`(?i)${SS}\s*(N|P|D|DS|SL)\b(?=\s+[\p{L}_"#])`,
+        match: r`(?i)${SS}\s*(N|P1|P0|P|DL|D|DS|SL)\b(?=\s+[\p{L}_"#])`,
         captures: { 1: { name: S.qualifier } },
       },
     ],
@@ -455,6 +467,7 @@ const repository = {
       { match: r`(?i)\b(?:${alt(TYPES)})\b(?!#)(?!\s*->)`, name: S.type },
       { match: r`(?i)\b(?:${alt(PREDEFINED)})\b`, name: S.predefined },
       { match: r`(?i)\b(?:and|or|xor|not)\b(?!\s*:)`, name: S.logical },
+      { match: r`(?i)\bmod\b(?!\s*:)`, name: S.arith },
     ],
   },
 
